@@ -1,0 +1,43 @@
+// Minimum s-t cut on a GridGraph, behind one small interface so the solvers can be swapped, compared
+// and benchmarked side by side.
+#pragma once
+
+#include <shadecut/grid_graph.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace shadecut {
+
+/// Which maximum-flow implementation solves the expansion moves.
+enum class MaxFlowKind {
+  Grid,    ///< ShadeCut's Boykov-Kolmogorov solver specialized to the 4-connected grid.
+  OpenCV,  ///< cv::detail::GCGraph (Boykov-Kolmogorov on a general adjacency list).
+  Boost,   ///< boost::boykov_kolmogorov_max_flow on a boost::adjacency_list.
+};
+
+/// Parses "grid", "opencv" or "boost"; throws InvalidArgument otherwise.
+MaxFlowKind parse_maxflow_kind(const std::string& name);
+std::string to_string(MaxFlowKind kind);
+
+/// A reusable maximum-flow solver. Implementations keep their buffers between calls, so one solver
+/// serves all moves of an alpha-expansion without reallocating.
+class MaxFlowSolver {
+ public:
+  virtual ~MaxFlowSolver() = default;
+
+  /// Computes a maximum flow / minimum cut of `graph`.
+  ///
+  /// @param[in,out] graph  capacities (all >= 0); on return they may hold residual capacities.
+  /// @param[out] sink_side resized to graph.size(); 1 where the node lies on the sink side of a
+  ///                       minimum cut, 0 on the source side (isolated nodes: 0).
+  /// @return the maximum flow value, i.e. the capacity of the minimum cut.
+  virtual double solve(GridGraph& graph, std::vector<std::uint8_t>& sink_side) = 0;
+};
+
+/// Creates a solver of the given kind.
+std::unique_ptr<MaxFlowSolver> make_maxflow_solver(MaxFlowKind kind);
+
+}  // namespace shadecut
