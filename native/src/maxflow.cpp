@@ -1,0 +1,66 @@
+#include "maxflow_impl.hpp"
+
+#include <shadecut/errors.hpp>
+
+#include <cmath>
+#include <string>
+
+namespace shadecut {
+
+MaxFlowKind parse_maxflow_kind(const std::string& name) {
+  if (name == "grid") return MaxFlowKind::Grid;
+  if (name == "opencv") return MaxFlowKind::OpenCV;
+  if (name == "boost") return MaxFlowKind::Boost;
+  throw InvalidArgument("unknown max-flow solver \"" + name + "\"; valid names: grid, opencv, boost");
+}
+
+std::string to_string(MaxFlowKind kind) {
+  switch (kind) {
+    case MaxFlowKind::Grid: return "grid";
+    case MaxFlowKind::OpenCV: return "opencv";
+    case MaxFlowKind::Boost: return "boost";
+  }
+  throw InvalidArgument("invalid MaxFlowKind value " + std::to_string(static_cast<int>(kind)));
+}
+
+std::unique_ptr<MaxFlowSolver> make_maxflow_solver(MaxFlowKind kind) {
+  switch (kind) {
+    case MaxFlowKind::Grid: return maxflow_internal::make_grid_solver();
+    case MaxFlowKind::OpenCV: return maxflow_internal::make_opencv_solver();
+    case MaxFlowKind::Boost: return maxflow_internal::make_boost_solver();
+  }
+  throw InvalidArgument("invalid MaxFlowKind value " + std::to_string(static_cast<int>(kind)));
+}
+
+namespace maxflow_internal {
+
+const char* const bad_capacity_message = "max-flow: every capacity must be finite and >= 0";
+
+void check_shape(const GridGraph& graph) {
+  if (graph.rows < 0 || graph.cols < 0) {
+    throw InvalidArgument("max-flow: negative grid size " + std::to_string(graph.rows) + " x " +
+                          std::to_string(graph.cols));
+  }
+  const std::size_t n = std::size_t(graph.rows) * std::size_t(graph.cols);
+  for (const auto* v : {&graph.source_cap, &graph.sink_cap, &graph.right_cap, &graph.right_rev_cap, &graph.down_cap,
+                        &graph.down_rev_cap}) {
+    if (v->size() != n) {
+      throw InvalidArgument("max-flow: a capacity array has " + std::to_string(v->size()) + " entries, expected " +
+                            std::to_string(graph.rows) + " x " + std::to_string(graph.cols) + " = " +
+                            std::to_string(n));
+    }
+  }
+}
+
+void check_capacities(const GridGraph& graph) {
+  check_shape(graph);
+  for (const auto* v : {&graph.source_cap, &graph.sink_cap, &graph.right_cap, &graph.right_rev_cap, &graph.down_cap,
+                        &graph.down_rev_cap}) {
+    for (const float c : *v) {
+      if (!(c >= 0.0f && std::isfinite(c))) throw InvalidArgument(bad_capacity_message);
+    }
+  }
+}
+
+}  // namespace maxflow_internal
+}  // namespace shadecut

@@ -1,0 +1,25 @@
+// Internal to the max-flow layer: the factories behind make_maxflow_solver and the input check the
+// solvers share. Not part of the public API.
+#pragma once
+
+#include <shadecut/grid_graph.hpp>
+#include <shadecut/maxflow.hpp>
+
+#include <memory>
+
+namespace shadecut::maxflow_internal {
+
+std::unique_ptr<MaxFlowSolver> make_grid_solver();
+std::unique_ptr<MaxFlowSolver> make_opencv_solver();
+std::unique_ptr<MaxFlowSolver> make_boost_solver();
+
+/// Throws InvalidArgument unless rows, cols >= 0 and every capacity array has rows * cols entries.
+void check_shape(const GridGraph& graph);
+
+/// check_shape, and throws InvalidArgument unless every capacity is finite and >= 0.
+void check_capacities(const GridGraph& graph);
+
+/// The message check_capacities throws; the grid solver checks the values while it copies them.
+extern const char* const bad_capacity_message;
+
+}  // namespace shadecut::maxflow_internal
