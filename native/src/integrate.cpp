@@ -1,0 +1,298 @@
+#include <shadecut/errors.hpp>
+#include <shadecut/integrate.hpp>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace shadecut {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Below this n_z a normal is treated as grazing: its slope is the clamp value, in the direction the
+// normal tilts. This also covers normals facing away from the viewer, which a height field cannot have.
+constexpr double kGrazingNz = 1e-6;
+
+struct Gradients {
+  std::vector<double> p;  // dz/dx per pixel, x = column
+  std::vector<double> q;  // dz/dy per pixel, y up, so dz/drow = -q
+};
+
+void validate(const NormalMap& normals, const Mask& mask, double max_slope) {
+  if (normals.rows <= 0 || normals.cols <= 0) {
+    throw InvalidArgument("integrate_normals: the normal map is empty");
+  }
+  if (normals.xyz.rows() != normals.size()) {
+    throw InvalidArgument("integrate_normals: the normal map holds " + std::to_string(normals.xyz.rows()) +
+                          " vectors for " + std::to_string(normals.rows) + " x " + std::to_string(normals.cols) +
+                          " pixels");
+  }
+  if (mask.rows() != normals.rows || mask.cols() != normals.cols) {
+    throw InvalidArgument("integrate_normals: the mask is " + std::to_string(mask.rows()) + " x " +
+                          std::to_string(mask.cols()) + " but the normals are " + std::to_string(normals.rows) +
+                          " x " + std::to_string(normals.cols));
+  }
+  if (!(max_slope > 0.0) || !std::isfinite(max_slope)) {
+    throw InvalidArgument("integrate_normals: max_slope must be positive and finite, got " +
+                          std::to_string(max_slope));
+  }
+}
+
+Gradients surface_gradients(const NormalMap& normals, const Mask& mask, double max_slope) {
+  const Eigen::Index count = normals.size();
+  Gradients gradients{std::vector<double>(count, 0.0), std::vector<double>(count, 0.0)};
+  const bool* inside = mask.data();
+  for (Eigen::Index i = 0; i < count; ++i) {
+    if (!inside[i]) continue;
+    const double nx = normals.xyz(i, 0);
+    const double ny = normals.xyz(i, 1);
+    const double nz = normals.xyz(i, 2);
+    if (!std::isfinite(nx) || !std::isfinite(ny) || !std::isfinite(nz)) {
+      throw InvalidArgument("integrate_normals: non-finite normal at pixel (" + std::to_string(i / normals.cols) +
+                            ", " + std::to_string(i % normals.cols) + ")");
+    }
+    const double depth_axis = std::max(nz, kGrazingNz);
+    gradients.p[i] = std::clamp(-nx / depth_axis, -max_slope, max_slope);
+    gradients.q[i] = std::clamp(-ny / depth_axis, -max_slope, max_slope);
+  }
+  return gradients;
+}
+
+struct Components {
+  cv::Mat labels;  // CV_32S, 0 outside the mask, 1..count inside
+  int count = 0;   // number of components
+};
+
+Components label_components(const Mask& mask) {
+  cv::Mat inside(int(mask.rows()), int(mask.cols()), CV_8U);
+  for (int r = 0; r < inside.rows; ++r) {
+    auto* row = inside.ptr<unsigned char>(r);
+    for (int c = 0; c < inside.cols; ++c) row[c] = mask(r, c) ? 1 : 0;
+  }
+  Components components;
+  components.count = cv::connectedComponents(inside, components.labels, 4, CV_32S) - 1;
+  return components;
+}
+
+// The depth of each component is only defined up to a constant; fixing its minimum at 0 is the
+// documented gauge. Pixels outside the mask become 0.
+ImageF shift_components_to_zero(const std::vector<double>& depth, const Components& components) {
+  const int rows = components.labels.rows;
+  const int cols = components.labels.cols;
+  std::vector<double> minimum(std::size_t(components.count) + 1, std::numeric_limits<double>::infinity());
+  for (int r = 0; r < rows; ++r) {
+    const int* label = components.labels.ptr<int>(r);
+    for (int c = 0; c < cols; ++c) {
+      if (label[c] > 0) minimum[label[c]] = std::min(minimum[label[c]], depth[std::size_t(r) * cols + c]);
+    }
+  }
+  ImageF shifted = ImageF::Zero(rows, cols);
+  for (int r = 0; r < rows; ++r) {
+    const int* label = components.labels.ptr<int>(r);
+    for (int c = 0; c < cols; ++c) {
+      if (label[c] > 0) shifted(r, c) = float(depth[std::size_t(r) * cols + c] - minimum[label[c]]);
+    }
+  }
+  return shifted;
+}
+
+// Least squares over the mask's own edges: sum over 4-neighbour pairs (a, b) of (z_b - z_a - g_ab)^2,
+// g_ab being the mean of the two pixels' gradients along the edge. The normal equations are the
+// graph Laplacian of the mask. Each component's Laplacian is singular (a constant can be added), so
+// the first pixel of each component is pinned at 0 and drops out of the system; that leaves the
+// minimiser unchanged and makes the matrix positive definite.
+std::vector<double> integrate_poisson(const Gradients& gradients, const Components& components) {
+  const int rows = components.labels.rows;
+  const int cols = components.labels.cols;
+  const std::size_t pixel_count = std::size_t(rows) * cols;
+
+  constexpr int kNoUnknown = -1;
+  std::vector<int> unknown(pixel_count, kNoUnknown);
+  std::vector<bool> pinned(std::size_t(components.count) + 1, false);
+  int unknown_count = 0;
+  for (int r = 0; r < rows; ++r) {
+    const int* label = components.labels.ptr<int>(r);
+    for (int c = 0; c < cols; ++c) {
+      if (label[c] == 0) continue;
+      if (!pinned[label[c]]) {
+        pinned[label[c]] = true;
+      } else {
+        unknown[std::size_t(r) * cols + c] = unknown_count++;
+      }
+    }
+  }
+
+  std::vector<double> depth(pixel_count, 0.0);
+  if (unknown_count == 0) return depth;
+
+  // Only the lower triangle is stored: the solver reads no more.
+  std::vector<Eigen::Triplet<double>> lower;
+  lower.reserve(std::size_t(unknown_count) * 3);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(unknown_count);
+  auto add_edge = [&](std::size_t a, std::size_t b, double rise) {
+    const int ua = unknown[a];
+    const int ub = unknown[b];
+    if (ua != kNoUnknown) {
+      lower.emplace_back(ua, ua, 1.0);
+      rhs[ua] -= rise;
+    }
+    if (ub != kNoUnknown) {
+      lower.emplace_back(ub, ub, 1.0);
+      rhs[ub] += rise;
+    }
+    if (ua != kNoUnknown && ub != kNoUnknown) lower.emplace_back(std::max(ua, ub), std::min(ua, ub), -1.0);
+  };
+  for (int r = 0; r < rows; ++r) {
+    const int* label = components.labels.ptr<int>(r);
+    const int* label_below = r + 1 < rows ? components.labels.ptr<int>(r + 1) : nullptr;
+    for (int c = 0; c < cols; ++c) {
+      if (label[c] == 0) continue;
+      const std::size_t a = std::size_t(r) * cols + c;
+      if (c + 1 < cols && label[c + 1] != 0) {
+        add_edge(a, a + 1, 0.5 * (gradients.p[a] + gradients.p[a + 1]));
+      }
+      if (label_below != nullptr && label_below[c] != 0) {
+        const std::size_t b = a + cols;
+        add_edge(a, b, -0.5 * (gradients.q[a] + gradients.q[b]));  // y is up: one row down is -q
+      }
+    }
+  }
+
+  Eigen::SparseMatrix<double> laplacian(unknown_count, unknown_count);
+  laplacian.setFromTriplets(lower.begin(), lower.end());
+  lower = {};  // the factorisation needs the memory more
+
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(laplacian);
+  if (solver.info() != Eigen::Success) {
+    throw std::runtime_error("integrate_normals: the Poisson system could not be factorised");
+  }
+  const Eigen::VectorXd solution = solver.solve(rhs);
+  for (std::size_t i = 0; i < pixel_count; ++i) {
+    if (unknown[i] != kNoUnknown) depth[i] = solution[unknown[i]];
+  }
+  return depth;
+}
+
+// Angular frequency of DFT bin k of n, in radians per pixel. The Nyquist bin of an even n gets 0: it
+// is its own mirror, so any other value would make the spectrum non-Hermitian and the depth complex.
+double angular_frequency(int k, int n) {
+  if (2 * k == n) return 0.0;
+  return 2.0 * kPi * (2 * k < n ? k : k - n) / n;
+}
+
+// Frankot & Chellappa (1988): the depth whose Fourier-domain gradient is closest to (p, q), computed
+// over the whole rectangle with zero gradients outside the mask. The periodic Fourier basis cannot
+// hold a linear ramp, so the mean masked gradient is taken out first and added back as a plane;
+// without that a tilted plane would come out flat.
+std::vector<double> integrate_frankot_chellappa(Gradients gradients, const Mask& mask) {
+  const int rows = int(mask.rows());
+  const int cols = int(mask.cols());
+  const std::size_t pixel_count = std::size_t(rows) * cols;
+  const bool* inside = mask.data();
+
+  double mean_p = 0.0;
+  double mean_q = 0.0;
+  std::size_t inside_count = 0;
+  for (std::size_t i = 0; i < pixel_count; ++i) {
+    if (!inside[i]) continue;
+    mean_p += gradients.p[i];
+    mean_q += gradients.q[i];
+    ++inside_count;
+  }
+  std::vector<double> depth(pixel_count, 0.0);
+  if (inside_count == 0) return depth;
+  mean_p /= double(inside_count);
+  mean_q /= double(inside_count);
+
+  cv::Mat p_field(rows, cols, CV_64F, cv::Scalar(0.0));
+  cv::Mat q_field(rows, cols, CV_64F, cv::Scalar(0.0));
+  for (int r = 0; r < rows; ++r) {
+    auto* p_row = p_field.ptr<double>(r);
+    auto* q_row = q_field.ptr<double>(r);
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = std::size_t(r) * cols + c;
+      if (!inside[i]) continue;
+      p_row[c] = gradients.p[i] - mean_p;
+      q_row[c] = gradients.q[i] - mean_q;
+    }
+  }
+  gradients = {};  // the spectra need the memory more
+
+  cv::Mat p_spectrum;
+  cv::Mat q_spectrum;
+  cv::dft(p_field, p_spectrum, cv::DFT_COMPLEX_OUTPUT);
+  cv::dft(q_field, q_spectrum, cv::DFT_COMPLEX_OUTPUT);
+
+  cv::Mat z_spectrum(rows, cols, CV_64FC2);
+  for (int r = 0; r < rows; ++r) {
+    const double wy = -angular_frequency(r, rows);  // y grows as the row index falls
+    const auto* p_row = p_spectrum.ptr<cv::Vec2d>(r);
+    const auto* q_row = q_spectrum.ptr<cv::Vec2d>(r);
+    auto* z_row = z_spectrum.ptr<cv::Vec2d>(r);
+    for (int c = 0; c < cols; ++c) {
+      const double wx = angular_frequency(c, cols);
+      const double norm = wx * wx + wy * wy;
+      if (norm == 0.0) {
+        z_row[c] = cv::Vec2d(0.0, 0.0);
+        continue;
+      }
+      // Z = (-j wx P - j wy Q) / (wx^2 + wy^2), with -j (a + j b) = b - j a.
+      const double re = wx * p_row[c][1] + wy * q_row[c][1];
+      const double im = -(wx * p_row[c][0] + wy * q_row[c][0]);
+      z_row[c] = cv::Vec2d(re / norm, im / norm);
+    }
+  }
+
+  cv::Mat z_field;
+  cv::dft(z_spectrum, z_field, cv::DFT_INVERSE | cv::DFT_SCALE | cv::DFT_REAL_OUTPUT);
+  for (int r = 0; r < rows; ++r) {
+    const auto* z_row = z_field.ptr<double>(r);
+    const double y = -r;
+    for (int c = 0; c < cols; ++c) depth[std::size_t(r) * cols + c] = z_row[c] + mean_p * c + mean_q * y;
+  }
+  return depth;
+}
+
+}  // namespace
+
+Integrator parse_integrator(const std::string& name) {
+  if (name == "poisson") return Integrator::Poisson;
+  if (name == "frankot_chellappa") return Integrator::FrankotChellappa;
+  throw InvalidArgument("unknown integrator \"" + name + "\"; expected \"poisson\" or \"frankot_chellappa\"");
+}
+
+std::string to_string(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::Poisson:
+      return "poisson";
+    case Integrator::FrankotChellappa:
+      return "frankot_chellappa";
+  }
+  throw InvalidArgument("unknown Integrator value " + std::to_string(int(integrator)));
+}
+
+ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope) {
+  validate(normals, mask, max_slope);
+  Gradients gradients = surface_gradients(normals, mask, max_slope);
+  const Components components = label_components(mask);
+  switch (method) {
+    case Integrator::Poisson:
+      return shift_components_to_zero(integrate_poisson(gradients, components), components);
+    case Integrator::FrankotChellappa:
+      return shift_components_to_zero(integrate_frankot_chellappa(std::move(gradients), mask), components);
+  }
+  throw InvalidArgument("integrate_normals: unknown integrator " + std::to_string(int(method)));
+}
+
+}  // namespace shadecut

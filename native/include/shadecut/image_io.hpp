@@ -26,24 +26,35 @@ struct LoadedImage {
 };
 
 /// Reads PNG (8/16-bit), TIFF, JPEG, EXR, ... Colour becomes Rec. 709 luminance of the linear channels.
-/// Throws IoError when the file is missing or unreadable.
+/// Channels: 1 = grey, 2 = grey + alpha, 3 = RGB, 4 = RGBA, unless the file names its alpha channel.
+/// Alpha is read as stored (never premultiplied into the colour, never linearised). sRGB decoding uses
+/// the exact piecewise curve. Auto treats an integer file as linear when its oiio:ColorSpace says
+/// linear ("Linear", "scene_linear", "lin_srgb", ...) or its oiio:Gamma is 1 (a PNG gAMA of 1.0).
+/// Non-finite values are returned as they are. Throws IoError (with the path and OIIO's message) when
+/// the file is missing or unreadable.
 LoadedImage load_image(const std::string& path, ColorSpace color_space = ColorSpace::Auto);
 
-/// Writes a linear single-channel image: float for .exr/.tif, else 16-bit sRGB-encoded PNG, so that
-/// load_image(path) returns the same linear values (to 16-bit precision).
+/// Writes a linear single-channel image (channel Y, plus A = 0 / 1 when alpha is given): float for
+/// .exr/.tif/.tiff (tagged linear), else 16-bit sRGB-encoded integers (tagged sRGB; PNG, or whatever
+/// the extension names) with values clamped to [0, 1], so that load_image(path) returns the same
+/// linear values (to 16-bit precision). Throws InvalidArgument for an empty image or an alpha of
+/// another shape, IoError when the file cannot be written.
 void save_image(const std::string& path, const ImageF& image, const Mask* alpha = nullptr);
 
-/// Writes depth: .exr/.tif as float values (pixel units, 0 outside the mask, mask in alpha); other
-/// formats (PNG) as 16-bit grey scaled from the masked min..max to 0..65535 (a picture, not data).
+/// Writes depth: .exr/.tif/.tiff as float values (channel Z in pixel units, 0 outside the mask, mask
+/// in alpha A); other formats (PNG) as 16-bit grey scaled from the masked min..max to 0..65535 (a
+/// picture, not data; 0 outside the mask and everywhere if the masked depth is flat).
 void save_depth(const std::string& path, const ImageF& depth, const Mask& mask);
 
-/// Writes normals: .exr/.tif as float x, y, z; other formats (PNG) as 8-bit RGB = (n + 1) / 2 * 255,
-/// the usual normal-map colours (y up, as in the camera frame). Pixels outside the mask are black.
+/// Writes normals: .exr/.tif/.tiff as float x, y, z in channels R, G, B; other formats (PNG) as 8-bit
+/// RGB = (n + 1) / 2 * 255, the usual normal-map colours (y up, as in the camera frame). Pixels outside
+/// the mask are black.
 void save_normals(const std::string& path, const NormalMap& normals, const Mask& mask);
 
 /// Writes the height field as a triangle mesh, .ply (binary little endian) or .obj (text): one vertex
 /// per masked pixel at (x, y, z) = (c, -r, depth) in pixel units (camera frame), and two triangles for
-/// every 2 x 2 block of masked pixels. Throws InvalidArgument for another extension.
+/// every 2 x 2 block of masked pixels, wound counter-clockwise as seen from the viewer (+z). Throws
+/// InvalidArgument for another extension, IoError when the file cannot be written.
 void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask);
 
 }  // namespace shadecut

@@ -9,7 +9,10 @@ namespace shadecut {
 
 enum class Integrator {
   Poisson,           ///< Least squares on the mask's own pixels (Eigen sparse); respects any mask shape.
-  FrankotChellappa,  ///< Projection onto integrable Fourier bases (the paper's choice); whole rectangle.
+  FrankotChellappa,  ///< Projection onto integrable Fourier bases (the paper's choice); whole rectangle,
+                     ///< periodic, gradients 0 outside the mask. The mean masked gradient, which no
+                     ///< periodic basis holds, is integrated separately as a plane, so planes come out
+                     ///< exact.
 };
 
 /// Parses "poisson" or "frankot_chellappa"; throws InvalidArgument otherwise.
@@ -19,14 +22,22 @@ std::string to_string(Integrator integrator);
 /// Integrates camera-frame normals into depth.
 ///
 /// The surface gradients are p = dz/dx = -n_x / n_z and q = dz/dy = -n_y / n_z (x right, y up, so
-/// dz/drow = -q), each clamped to [-max_slope, max_slope] where n_z is tiny.
+/// dz/drow = -q), each clamped to [-max_slope, max_slope]. A normal with n_z <= 1e-6 (grazing, or
+/// facing away) gets the clamped slope in the direction it tilts.
 ///
-/// @param[in] normals   H x W unit normals, camera frame.
+/// Poisson minimises, over every pair (a, b) of 4-neighbours both in the mask, (z_b - z_a - g_ab)^2
+/// with g_ab the mean of the two pixels' gradients along that edge; it is solved exactly (sparse
+/// LDLT), one independent surface per 4-connected component.
+///
+/// @param[in] normals   H x W unit normals, camera frame. Normals outside the mask are never read.
 /// @param[in] mask      H x W; only masked pixels are integrated (Poisson) or carry gradients (FC).
 /// @param[in] method    which integrator.
-/// @param[in] max_slope bound on |p| and |q|, depth units per pixel.
+/// @param[in] max_slope bound on |p| and |q|, depth units per pixel; must be positive and finite.
 /// @return H x W depth in pixel units, larger = closer to the viewer. Every 4-connected component of
-///         the mask is shifted so that its minimum is 0; pixels outside the mask are 0.
+///         the mask is shifted so that its minimum is 0 (both methods; a one-pixel component is 0);
+///         pixels outside the mask are 0. An empty mask gives all zeros.
+/// @throws InvalidArgument for an empty normal map, a mask or vector count that does not match it,
+///         a bad max_slope, or a non-finite normal inside the mask.
 ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope = 10.0);
 
 }  // namespace shadecut
