@@ -1,0 +1,189 @@
+#include <shadecut/tilt_energy.hpp>
+
+#include <shadecut/errors.hpp>
+
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace shadecut {
+
+namespace {
+
+constexpr float kProhibited = std::numeric_limits<float>::infinity();
+// Normals this close to the image plane are treated as facing away from the viewer.
+constexpr double kMinFrontFacing = 1e-6;
+// Slack of the dead-end test, so that float rounding never drops a label that could tie.
+constexpr float kDominanceSlack = 1e-5f;
+
+// Circular distance between two angles, in [0, pi].
+double angle_distance(double a, double b) {
+  const double d = std::fmod(std::abs(a - b), 2.0 * M_PI);
+  return d > M_PI ? 2.0 * M_PI - d : d;
+}
+
+int nearest_label(double tilt, int labels) {
+  const long k = std::lround(tilt / (2.0 * M_PI / labels));
+  return int(((k % labels) + labels) % labels);
+}
+
+}  // namespace
+
+double TiltEnergy::label_tilt(int k) const { return 2.0 * M_PI * k / labels_; }
+
+TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const Mask& mask,
+                       const TiltEnergyParams& params)
+    : rows_(int(mask.rows())), cols_(int(mask.cols())), labels_(params.labels), mask_(mask) {
+  if (params.labels < 4 || params.labels > kMaxLabels)
+    throw InvalidArgument("shadecut: labels must be between 4 and " + std::to_string(kMaxLabels) + " (got " + std::to_string(params.labels) + ")");
+  if (!(params.data_weight >= 0.0) || !std::isfinite(params.data_weight))
+    throw InvalidArgument("shadecut: data_weight must be finite and >= 0");
+  if (!(params.undefined_weight >= 0.0) || !std::isfinite(params.undefined_weight))
+    throw InvalidArgument("shadecut: undefined_weight must be finite and >= 0");
+  const int n = rows_ * cols_, k_count = labels_;
+
+  chord_.resize(std::size_t(k_count));
+  for (int d = 0; d < k_count; ++d) chord_[std::size_t(d)] = float(2.0 * std::abs(std::sin(M_PI * d / k_count)));
+
+  weight_right_.assign(std::size_t(n), 0.0f);
+  weight_down_.assign(std::size_t(n), 0.0f);
+  for (int r = 0; r < rows_; ++r) {
+    for (int c = 0; c < cols_; ++c) {
+      if (!mask(r, c)) continue;
+      const int p = r * cols_ + c;
+      if (c + 1 < cols_ && mask(r, c + 1))
+        weight_right_[std::size_t(p)] = std::sin(std::min(local.slant(r, c), local.slant(r, c + 1)));
+      if (r + 1 < rows_ && mask(r + 1, c))
+        weight_down_[std::size_t(p)] = std::sin(std::min(local.slant(r, c), local.slant(r + 1, c)));
+    }
+  }
+
+  std::vector<double> cos_label(static_cast<std::size_t>(k_count)), label_angle(static_cast<std::size_t>(k_count));
+  for (int k = 0; k < k_count; ++k) {
+    label_angle[std::size_t(k)] = label_tilt(k);
+    cos_label[std::size_t(k)] = std::cos(label_angle[std::size_t(k)]);
+  }
+  const double cos_ls = std::cos(light.slant), sin_ls = std::sin(light.slant);
+
+  convex_tilt_.assign(std::size_t(n), std::numeric_limits<float>::quiet_NaN());
+  data_cost_.assign(std::size_t(n) * k_count, kProhibited);
+  const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+  for (int p = 0; p < n; ++p) {
+    if (!mask_.data()[p]) continue;
+    const double s = local.slant.data()[p], sin_s = std::sin(s);
+    std::array<float, kMaxLabels> cost_buffer;
+    float* cost = cost_buffer.data();
+    std::fill(cost, cost + k_count, kProhibited);
+    const bool defined = local.tilt_defined.data()[p];
+    const double t = local.tilt.data()[p];
+    if (defined) convex_tilt_[std::size_t(p)] = float(t + M_PI);
+    const int concave_label = nearest_label(t, k_count), convex_label = nearest_label(t + M_PI, k_count);
+
+    int most_frontal = 0;
+    double best_nz = -2.0;
+    for (int k = 0; k < k_count; ++k) {
+      // z of Rz(tS) Ry(sS) n'(s, theta): the rotation about z leaves it unchanged.
+      const double nz = cos_ls * std::cos(s) - sin_ls * sin_s * cos_label[std::size_t(k)];
+      if (nz > best_nz) best_nz = nz, most_frontal = k;
+      if (nz <= kMinFrontFacing) continue;
+      if (!defined) {
+        cost[k] = float(params.undefined_weight * 2.0 * sin_s * std::sin(0.5 * angle_distance(label_angle[std::size_t(k)], M_PI)));
+      } else if (params.data_term == DataTerm::Soft) {
+        const double d = std::min(angle_distance(label_angle[std::size_t(k)], t),
+                                  angle_distance(label_angle[std::size_t(k)], t + M_PI));
+        cost[k] = float(params.data_weight * 2.0 * sin_s * std::sin(0.5 * d));
+      } else if (k == concave_label || k == convex_label) {
+        cost[k] = 0.0f;
+      }
+    }
+    // Eq. (10) can leave no label when both candidates face away after discretization.
+    if (std::none_of(cost, cost + k_count, [](float v) { return std::isfinite(v); })) cost[most_frontal] = 0.0f;
+
+    // Dead-end elimination against the cheapest label and the cheapest one of the other convexity.
+    int best = -1;
+    for (int k = 0; k < k_count; ++k)
+      if (std::isfinite(cost[k]) && (best < 0 || cost[k] < cost[best])) best = k;
+    int rival = -1;
+    for (int k = 0; k < k_count; ++k)
+      if (std::isfinite(cost[k]) && label_distance(k, best) > float(M_SQRT2) && (rival < 0 || cost[k] < cost[rival]))
+        rival = k;
+    const int r = p / cols_, c = p % cols_;
+    const float neighbour_weight = weight_right_[std::size_t(p)] + weight_down_[std::size_t(p)] +
+                                   (c > 0 ? weight_right_[std::size_t(p - 1)] : 0.0f) +
+                                   (r > 0 ? weight_down_[std::size_t(p - cols_)] : 0.0f);
+    for (int k = 0; k < k_count; ++k) {
+      if (!std::isfinite(cost[k]) || k == best || k == rival) continue;
+      for (int b : {best, rival}) {
+        if (b >= 0 && cost[k] - cost[b] > neighbour_weight * label_distance(k, b) + kDominanceSlack) {
+          cost[k] = kProhibited;
+          break;
+        }
+      }
+    }
+    for (int k = 0; k < k_count; ++k) data_cost_[std::size_t(k) * n + p] = cost[k];
+  }
+}
+
+double TiltEnergy::energy(const std::vector<int>& labelling) const {
+  double total = 0.0;
+  for (int p = 0; p < rows_ * cols_; ++p) {
+    if (!mask_.data()[p]) continue;
+    const int lp = labelling[std::size_t(p)];
+    total += data_cost(p, lp);
+    if (weight_right_[std::size_t(p)] > 0.0f)
+      total += double(weight_right_[std::size_t(p)]) * label_distance(lp, labelling[std::size_t(p + 1)]);
+    if (weight_down_[std::size_t(p)] > 0.0f)
+      total += double(weight_down_[std::size_t(p)]) * label_distance(lp, labelling[std::size_t(p + cols_)]);
+  }
+  return total;
+}
+
+std::vector<int> TiltEnergy::convex_labelling() const {
+  std::vector<int> labelling(std::size_t(rows_) * cols_, 0);
+  for (int p = 0; p < rows_ * cols_; ++p) {
+    if (!mask_.data()[p]) continue;
+    const double target = std::isnan(convex_tilt_[std::size_t(p)]) ? M_PI : double(convex_tilt_[std::size_t(p)]);
+    int chosen = -1;
+    double chosen_distance = 0.0;
+    for (int k = 0; k < labels_; ++k) {
+      if (!allowed(p, k)) continue;
+      const double d = angle_distance(label_tilt(k), target);
+      if (chosen < 0 || d < chosen_distance) chosen = k, chosen_distance = d;
+    }
+    labelling[std::size_t(p)] = chosen;
+  }
+  return labelling;
+}
+
+std::int64_t TiltEnergy::allowed_count() const {
+  std::int64_t count = 0;
+  for (int p = 0; p < rows_ * cols_; ++p)
+    if (mask_.data()[p])
+      for (int k = 0; k < labels_; ++k) count += allowed(p, k);
+  return count;
+}
+
+NormalMap labelling_normals(const std::vector<int>& labelling, const TiltEnergy& energy, const LocalShape& local,
+                            const LightFrame& light, bool refine) {
+  const Mask& mask = energy.mask();
+  NormalMap normals(energy.rows(), energy.cols());
+  const double step = 2.0 * M_PI / energy.labels();
+  for (Eigen::Index i = 0; i < normals.size(); ++i) {
+    if (!mask.data()[i]) continue;
+    double tilt = energy.label_tilt(labelling[std::size_t(i)]);
+    if (refine && local.tilt_defined.data()[i]) {
+      const double concave = local.tilt.data()[i], convex = concave + M_PI;
+      const double nearer = angle_distance(tilt, concave) < angle_distance(tilt, convex) ? concave : convex;
+      if (angle_distance(tilt, nearer) <= step + 1e-9) tilt = nearer;
+    }
+    normals.xyz.row(i) = light.normal(local.slant.data()[i], tilt).cast<float>();
+  }
+  return normals;
+}
+
+}  // namespace shadecut

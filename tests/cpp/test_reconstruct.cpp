@@ -1,0 +1,62 @@
+#include "test_support.hpp"
+
+#include <shadecut/angular_error.hpp>
+#include <shadecut/errors.hpp>
+#include <shadecut/reconstruct.hpp>
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+namespace shadecut {
+namespace {
+
+TEST(Reconstruct, GraphCutRecoversSphereAndBowl) {
+  const Eigen::Vector3d light(1, 0, 1);
+  for (bool bowl : {false, true}) {
+    const testing::Scene scene = testing::sphere_scene(128, 0.45, light, bowl);
+    const Reconstruction result = reconstruct(scene.image, light, &scene.mask, 1.0, ReconstructOptions{});
+    EXPECT_LT(mean_angular_error(result.normals, scene.normals, erode_mask(scene.mask, 2)), bowl ? 5.0 : 3.0);
+    EXPECT_FLOAT_EQ(result.depth(0, 0), 0.0f);  // outside the mask
+  }
+}
+
+TEST(Reconstruct, ProgressReachesOneAndCanCancel) {
+  const Eigen::Vector3d light(1, 0, 1);
+  const testing::Scene scene = testing::sphere_scene(48, 0.45, light);
+  ReconstructOptions options;
+  double last = -1.0;
+  bool monotone = true;
+  options.progress = [&](double fraction, const std::string&) {
+    monotone = monotone && fraction >= last;
+    last = fraction;
+    return true;
+  };
+  reconstruct(scene.image, light, &scene.mask, std::nullopt, options);
+  EXPECT_TRUE(monotone);
+  EXPECT_DOUBLE_EQ(last, 1.0);
+  options.progress = [](double, const std::string& stage) { return stage != "graphcut"; };
+  EXPECT_THROW(reconstruct(scene.image, light, &scene.mask, std::nullopt, options), Cancelled);
+}
+
+TEST(Reconstruct, RejectsBadInput) {
+  const Eigen::Vector3d light(1, 0, 1);
+  const testing::Scene scene = testing::sphere_scene(16, 0.45, light);
+  const ReconstructOptions defaults;
+  EXPECT_THROW(reconstruct(ImageF::Zero(1, 1), light, nullptr, std::nullopt, defaults), InvalidArgument);
+  EXPECT_THROW(reconstruct(ImageF::Zero(0, 0), light, nullptr, std::nullopt, defaults), InvalidArgument);
+  ImageF with_nan = scene.image;
+  with_nan(3, 3) = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(reconstruct(with_nan, light, nullptr, std::nullopt, defaults), InvalidArgument);
+  const Mask wrong_shape = Mask::Constant(15, 16, true);
+  EXPECT_THROW(reconstruct(scene.image, light, &wrong_shape, std::nullopt, defaults), InvalidArgument);
+  EXPECT_THROW(reconstruct(scene.image, {0, 0, 0}, nullptr, std::nullopt, defaults), InvalidArgument);
+  EXPECT_THROW(reconstruct(scene.image, {1, 0, -0.5}, nullptr, std::nullopt, defaults), InvalidArgument);
+  EXPECT_THROW(reconstruct(ImageF::Zero(16, 16), light, nullptr, std::nullopt, defaults), InvalidArgument);
+  ReconstructOptions few_labels;
+  few_labels.labels = 3;
+  EXPECT_THROW(reconstruct(scene.image, light, &scene.mask, std::nullopt, few_labels), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace shadecut

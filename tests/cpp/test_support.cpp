@@ -1,0 +1,45 @@
+#include "test_support.hpp"
+
+#include <shadecut/render.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+namespace shadecut::testing {
+
+Scene sphere_scene(int size, double radius_fraction, const Eigen::Vector3d& light, bool bowl) {
+  const double radius = radius_fraction * size, centre = 0.5 * (size - 1);
+  Scene scene{ImageF::Zero(size, size), NormalMap(size, size), ImageF::Zero(size, size), Mask::Constant(size, size, false)};
+  for (int r = 0; r < size; ++r) {
+    for (int c = 0; c < size; ++c) {
+      const double x = c - centre, y = centre - r, h2 = radius * radius - x * x - y * y;
+      if (h2 <= 0.0) continue;
+      const double h = std::sqrt(h2);
+      scene.mask(r, c) = true;
+      scene.depth(r, c) = float(bowl ? radius - h : h);
+      // The bowl is the sphere's inside: its surface slopes the other way.
+      const Eigen::Vector3d n = bowl ? Eigen::Vector3d(-x, -y, h) / radius : Eigen::Vector3d(x, y, h) / radius;
+      scene.normals.xyz.row(Eigen::Index(r) * size + c) = n.cast<float>();
+    }
+  }
+  scene.image = render_lambertian(scene.normals, light, 1.0, scene.mask);
+  return scene;
+}
+
+Scene mozart_scene(const Eigen::Vector3d& light) {
+  const std::string path = std::string(SHADECUT_DATA_DIR) + "/mozart/moz256.depth";
+  std::ifstream file(path);
+  if (!file) throw std::runtime_error("cannot open " + path);
+  constexpr int kSize = 256;
+  Scene scene;
+  scene.depth = ImageF::Zero(kSize, kSize);
+  for (Eigen::Index i = 0; i < scene.depth.size(); ++i)
+    if (!(file >> scene.depth.data()[i])) throw std::runtime_error("short depth file " + path);
+  scene.mask = scene.depth > 0.0f;
+  scene.normals = normals_from_depth(scene.depth, scene.mask);
+  scene.image = render_lambertian(scene.normals, light, 1.0, scene.mask);
+  return scene;
+}
+
+}  // namespace shadecut::testing

@@ -1,0 +1,116 @@
+"""Synthetic surfaces with exact ground truth, rendered by :func:`shadecut.render`.
+
+Each function returns a :class:`Scene`: the Lambertian image, the exact camera-frame normals, the
+depth (pixel units, larger = closer) and the mask, under the given light. They serve the tests, the
+parameter tuning and the demo.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from .api import angular_error, erode_mask, normals_from_depth, render
+
+
+@dataclass
+class Scene:
+    image: np.ndarray  # (H, W) float32, linear
+    normals: np.ndarray  # (H, W, 3) float32, camera frame, 0 outside the mask
+    depth: np.ndarray  # (H, W) float32, pixel units
+    mask: np.ndarray  # (H, W) bool
+    light: tuple  # direction toward the light, camera frame
+    albedo: float = 1.0
+
+    def mean_error(self, normals: np.ndarray, erode: int = 2) -> float:
+        """Mean angular error (degrees) of ``normals`` on the mask eroded by ``erode`` pixels."""
+        return angular_error(normals, self.normals, erode_mask(self.mask, erode))
+
+
+def _pixel_grid(size: int) -> tuple[np.ndarray, np.ndarray]:
+    """Camera-frame x (right) and y (up) of every pixel, origin at the image centre."""
+    rows, cols = np.mgrid[0:size, 0:size].astype(np.float64)
+    centre = (size - 1) / 2
+    return cols - centre, centre - rows
+
+
+def _scene(normals, depth, mask, light, albedo) -> Scene:
+    normals = np.where(mask[..., None], normals, 0).astype(np.float32)
+    image = render(normals, light, albedo, mask)
+    return Scene(image, normals, np.where(mask, depth, 0).astype(np.float32), mask, tuple(light), albedo)
+
+
+def _height_field(depth, dz_dx, dz_dy, mask, light, albedo) -> Scene:
+    normals = np.dstack([-dz_dx, -dz_dy, np.ones_like(depth)])
+    normals /= np.linalg.norm(normals, axis=2, keepdims=True)
+    return _scene(normals, depth - depth[mask].min(), mask, light, albedo)
+
+
+def sphere(light: Sequence[float], size: int = 128, radius_fraction: float = 0.45, bowl: bool = False,
+           albedo: float = 1.0) -> Scene:
+    """A sphere of radius radius_fraction * size centred in the image; ``bowl``: its concave inside."""
+    x, y = _pixel_grid(size)
+    radius = radius_fraction * size
+    height2 = radius**2 - x**2 - y**2
+    mask = height2 > 0
+    height = np.sqrt(np.maximum(height2, 0))
+    sign = -1.0 if bowl else 1.0
+    normals = np.dstack([sign * x, sign * y, height]) / radius
+    return _scene(normals, radius - height if bowl else height, mask, light, albedo)
+
+
+# (centre x, centre y, sigma, amplitude) in units of the image size: three bumps and three dents on
+# a 3 x 2 layout, apart enough that each keeps its own shape.
+BUMPS = (
+    (-0.28, 0.18, 0.07, 0.1),
+    (0.0, 0.18, 0.07, -0.1),
+    (0.28, 0.18, 0.07, 0.1),
+    (-0.28, -0.18, 0.07, -0.1),
+    (0.0, -0.18, 0.07, 0.1),
+    (0.28, -0.18, 0.07, -0.1),
+)
+
+
+def bumps(light: Sequence[float], size: int = 128, features=BUMPS, albedo: float = 1.0) -> Scene:
+    """Gaussian bumps and dents on a plane, z = sum a exp(-|p - c|^2 / (2 s^2)), over the whole image.
+
+    ``features``: (centre x, centre y, sigma, amplitude) tuples in units of the image size.
+    """
+    x, y = _pixel_grid(size)
+    depth, dz_dx, dz_dy = np.zeros_like(x), np.zeros_like(x), np.zeros_like(x)
+    for cx, cy, sigma, amplitude in features:
+        cx, cy, sigma, amplitude = cx * size, cy * size, sigma * size, amplitude * size
+        g = amplitude * np.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * sigma**2))
+        depth += g
+        dz_dx -= g * (x - cx) / sigma**2
+        dz_dy -= g * (y - cy) / sigma**2
+    return _height_field(depth, dz_dx, dz_dy, np.ones(x.shape, bool), light, albedo)
+
+
+def egg_crate(light: Sequence[float], size: int = 128, periods: float = 2.0, amplitude: float = 0.06,
+              albedo: float = 1.0) -> Scene:
+    """z = a size sin(2 pi f x / size) sin(2 pi f y / size): alternating bumps and dents, no flat part."""
+    x, y = _pixel_grid(size)
+    k = 2 * np.pi * periods / size
+    a = amplitude * size
+    depth = a * np.sin(k * x) * np.sin(k * y)
+    return _height_field(depth, a * k * np.cos(k * x) * np.sin(k * y), a * k * np.sin(k * x) * np.cos(k * y),
+                         np.ones(x.shape, bool), light, albedo)
+
+
+def read_depth_text(path: str | os.PathLike, size: int = 256) -> np.ndarray:
+    """A size x size depth map stored as one decimal number per line, row-major, row 0 at the top."""
+    depth = np.loadtxt(path, dtype=np.float64)
+    if depth.size != size * size:
+        raise ValueError(f"shadecut: {path} holds {depth.size} values, not {size} x {size}")
+    return depth.reshape(size, size)
+
+
+def mozart(path: str | os.PathLike, light: Sequence[float] = (1.0, 0.0, 1.0), albedo: float = 1.0) -> Scene:
+    """The Mozart depth map (data/mozart/moz256.depth): mask depth > 0, normals by central differences."""
+    depth = read_depth_text(path).astype(np.float32)
+    mask = depth > 0
+    return _scene(normals_from_depth(depth, mask), depth, mask, light, albedo)

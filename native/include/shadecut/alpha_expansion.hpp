@@ -1,0 +1,38 @@
+// Alpha-expansion (Boykov, Veksler & Zabih 2001) of a TiltEnergy.
+#pragma once
+
+#include <shadecut/maxflow.hpp>
+#include <shadecut/tilt_energy.hpp>
+
+#include <functional>
+#include <vector>
+
+namespace shadecut {
+
+struct AlphaExpansionStats {
+  std::vector<double> energy_per_cycle;  ///< energy of the initial labelling, then after every cycle
+  int cycles = 0;                        ///< full cycles over the labels
+  int moves = 0;                         ///< expansion moves solved (labels with no candidate pixel are skipped)
+  int accepted_moves = 0;                ///< moves that lowered the energy
+  double maxflow_seconds = 0.0;          ///< time inside MaxFlowSolver::solve
+};
+
+/// Called after every move with the fraction of the cycle budget done; returning false cancels
+/// (alpha_expansion then throws Cancelled).
+using MoveCallback = std::function<bool(double fraction)>;
+
+/// Minimizes `energy` by expansion moves, cycling over the labels until a full cycle lowers the energy
+/// no more (or `max_cycles` cycles). Each move is a minimum cut over the pixels where the label is
+/// allowed and not already taken (Kolmogorov & Zabih's construction; the pairwise term is a metric, so
+/// every move is graph-representable). A move is kept only if it lowers the energy, so the energy never
+/// rises.
+///
+/// @param[in] energy        the energy.
+/// @param[in,out] labelling one allowed label per masked pixel (e.g. energy.convex_labelling()).
+/// @param[in] solver        the max-flow solver; its buffers are reused across moves.
+/// @param[in] max_cycles    >= 1.
+/// @param[in] on_move       optional progress / cancellation callback.
+AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& labelling, MaxFlowSolver& solver,
+                                    int max_cycles, const MoveCallback& on_move = {});
+
+}  // namespace shadecut

@@ -1,0 +1,36 @@
+// The local shape-from-shading step of Lee & Rosenfeld (1985): per-pixel slant and the two tilt
+// candidates, in light-source coordinates.
+#pragma once
+
+#include <shadecut/light.hpp>
+#include <shadecut/types.hpp>
+
+namespace shadecut {
+
+/// Per-pixel local estimates. All angles in radians, in the light-source frame of LightFrame.
+struct LocalShape {
+  ImageF slant;        ///< s = acos(clamp(I / albedo, 0, 1)), in [0, pi/2]
+  ImageF tilt;         ///< the concave candidate t (paper eq. 9), in (-pi, pi]; t + pi is the convex one
+  Mask tilt_defined;   ///< false where the intensity gradient is too weak (or outside the mask)
+};
+
+/// Computes the local estimates of every masked pixel.
+///
+/// The tilt is t = atan2(Iy cos tS - Ix sin tS, cos sS (Ix cos tS + Iy sin tS)), with the intensity
+/// derivatives Ix (along +x, right) and Iy (along +y, up) taken by central differences between masked
+/// pixels (one-sided at the mask's edge).
+///
+/// @param[in] image        H x W linear intensity.
+/// @param[in] mask         H x W.
+/// @param[in] light        light frame (LightFrame::from_direction).
+/// @param[in] albedo       > 0; the intensity of a pixel facing the light.
+/// @param[in] min_gradient the tilt is undefined where |grad I| / albedo is below this (per pixel).
+LocalShape local_shape(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                       double min_gradient);
+
+/// Camera-frame normals of the convex candidate (tilt t + pi) everywhere: the local method of
+/// Lee & Rosenfeld under the convex assumption. Where the tilt is undefined the tilt is taken as pi
+/// (the normal turned from the light toward the viewer), which matters only where the slant is large.
+NormalMap convex_normals(const LocalShape& local, const LightFrame& light, const Mask& mask);
+
+}  // namespace shadecut

@@ -1,0 +1,92 @@
+// The whole pipeline: one shaded image in, normals and depth out.
+#pragma once
+
+#include <shadecut/integrate.hpp>
+#include <shadecut/maxflow.hpp>
+#include <shadecut/types.hpp>
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace shadecut {
+
+enum class Method {
+  GraphCut,     ///< "graphcut": the paper's eq. (15) energy, minimized by alpha-expansion
+  GraphCutTwo,  ///< "graphcut_two": the paper's eq. (10), every pixel restricted to its two candidates
+  LeeRosenfeld, ///< "lee_rosenfeld": the local method under the convex assumption (no global step)
+};
+
+/// Parses "graphcut", "graphcut_two" or "lee_rosenfeld"; throws InvalidArgument otherwise.
+Method parse_method(const std::string& name);
+std::string to_string(Method method);
+
+/// Progress of a long call: `fraction` in [0, 1] of the whole call, `stage` one of "local", "energy",
+/// "graphcut", "integration". Returning false cancels the call (it throws Cancelled).
+using ProgressCallback = std::function<bool(double fraction, const std::string& stage)>;
+
+/// Per-method defaults chosen by scripts/tune_parameters.py on training surfaces (see the README).
+struct MethodDefaults {
+  double min_gradient;
+  double undefined_weight;
+};
+MethodDefaults method_defaults(Method method);
+
+struct ReconstructOptions {
+  Method method = Method::GraphCut;
+  int labels = 36;                          ///< K tilt labels
+  double data_weight = 0.2;                 ///< lambda of eq. (15), tuned (graphcut only)
+  std::optional<double> undefined_weight;   ///< TiltEnergyParams::undefined_weight; unset = method_defaults
+  Integrator integrator = Integrator::Poisson;
+  MaxFlowKind maxflow = MaxFlowKind::Grid;
+  int max_cycles = 20;                      ///< alpha-expansion stops earlier when a cycle gains nothing
+  std::optional<double> min_gradient;       ///< |grad I| / albedo below which the local tilt is undefined; unset = method_defaults
+  bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
+  double max_slope = 10.0;                  ///< gradient clamp of the integrator
+  bool fill_shadows = true;                 ///< interpolate normals in attached shadows (fill_attached_shadows)
+  double shadow_threshold = 1e-3;           ///< relative intensity at or below which a pixel is in shadow
+  bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling
+  int threads = 0;                          ///< 0 = all cores
+  ProgressCallback progress;
+};
+
+struct ReconstructStats {
+  std::map<std::string, double> seconds;    ///< "local", "energy", "graphcut", "integration", "total"
+  std::vector<double> energy_per_cycle;     ///< initial energy, then after every alpha-expansion cycle
+  int cycles = 0;
+  int moves = 0;
+  int accepted_moves = 0;
+  double maxflow_seconds = 0.0;
+  double allowed_label_fraction = 0.0;      ///< share of (pixel, label) pairs left after pruning
+  int shadow_pixels = 0;                    ///< pixels whose normals came from fill_attached_shadows
+};
+
+struct Reconstruction {
+  NormalMap normals;       ///< H x W camera-frame unit normals, 0 outside the mask
+  ImageF depth;            ///< H x W, pixel units, larger = closer; each mask component's minimum is 0
+  Mask mask;               ///< H x W, the pixels reconstructed
+  double albedo = 0.0;     ///< the albedo used (given or estimated)
+  Eigen::Vector3d light;   ///< unit light direction used, camera frame
+  ReconstructStats stats;
+};
+
+/// The albedo estimate used when none is given: the largest value of the 3 x 3 median-filtered image
+/// inside the mask, i.e. the brightness of a pixel facing the light, robust to isolated hot pixels.
+double estimate_albedo(const ImageF& image, const Mask& mask);
+
+/// Reconstructs normals and depth from one Lambertian image.
+///
+/// @param[in] image   H x W linear intensity (>= 2 x 2, finite).
+/// @param[in] light   direction toward the light, camera frame, S_z > 0 (normalized here).
+/// @param[in] mask    H x W pixels to reconstruct, or nullptr for all.
+/// @param[in] albedo  > 0, or std::nullopt to use estimate_albedo.
+/// @param[in] options method and parameters.
+/// Throws InvalidArgument for bad input and Cancelled when options.progress returns false.
+Reconstruction reconstruct(const ImageF& image, const Eigen::Vector3d& light, const Mask* mask,
+                           std::optional<double> albedo, const ReconstructOptions& options);
+
+}  // namespace shadecut

@@ -1,0 +1,27 @@
+// The Lambertian image formation model ShadeCut inverts, and normals of height fields.
+#pragma once
+
+#include <shadecut/types.hpp>
+
+#include <Eigen/Core>
+
+namespace shadecut {
+
+/// Camera-frame unit normals of a height field, normalize(-dz/dx, -dz/dy, 1) with x right, y up.
+///
+/// @param[in] depth  H x W depth, pixel units, larger = closer.
+/// @param[in] mask   H x W; derivatives use only masked pixels (central differences, one-sided at the
+///                   mask's edge, 0 where a pixel has no masked neighbour along that axis).
+/// @return normals, (0, 0, 0) outside the mask.
+NormalMap normals_from_depth(const ImageF& depth, const Mask& mask);
+
+/// Lambertian image I = albedo * max(0, S . N) of a normal field under a distant light.
+///
+/// @param[in] normals H x W unit normals, camera frame.
+/// @param[in] light   direction toward the light, camera frame, any length > 0 (normalized here).
+/// @param[in] albedo  >= 0.
+/// @param[in] mask    H x W; pixels outside it are 0.
+/// @return H x W linear intensity.
+ImageF render_lambertian(const NormalMap& normals, const Eigen::Vector3d& light, double albedo, const Mask& mask);
+
+}  // namespace shadecut

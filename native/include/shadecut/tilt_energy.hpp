@@ -1,0 +1,92 @@
+// The global energy over discretized tilt labels of Chang, Lee & Lee (2008), eqs. (10), (15), (20).
+#pragma once
+
+#include <shadecut/light.hpp>
+#include <shadecut/local_shape.hpp>
+#include <shadecut/types.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace shadecut {
+
+/// Which data term R_p the energy uses.
+enum class DataTerm {
+  /// Eq. (15): R_p is 0 at the two local candidates t and t + pi and grows with the angular distance
+  /// to the nearer one: R_p(theta) = data_weight * |n(s_p, theta) - n(s_p, nearer candidate)|
+  /// = data_weight * 2 sin(s_p) sin(d / 2), d the tilt distance.
+  Soft,
+  /// Eq. (10): only the labels nearest t and t + pi are allowed (cost 0), every other is prohibited.
+  TwoCandidates,
+};
+
+/// The largest number of tilt labels; one degree per label is finer than any image supports.
+constexpr int kMaxLabels = 360;
+
+struct TiltEnergyParams {
+  int labels = 36;             ///< K; label k is the tilt 2 pi k / K in the light frame. K >= 4.
+  double data_weight = 1.0;    ///< lambda of the soft data term (unused by TwoCandidates)
+  /// Where the tilt is undefined R_p is nearly flat, so the neighbours decide; a pull of this weight
+  /// toward tilt pi (the normal turned from the light toward the viewer, the local method's own choice
+  /// there) settles what the neighbours leave open: R_p(theta) = w 2 sin(s_p) sin(|theta - pi| / 2).
+  double undefined_weight = 0.0;
+  DataTerm data_term = DataTerm::Soft;
+  int threads = 0;             ///< OpenMP threads for building the tables; 0 = all cores
+};
+
+/// E(labels) = sum_p R_p(theta_p) + sum over 4-neighbours (p, q) of
+///   V_pq = |n(s_min, theta_p) - n(s_min, theta_q)| = 2 sin(s_min) |sin((theta_p - theta_q) / 2)|,
+/// s_min = min(s_p, s_q) (eq. 20, a metric). Labels whose normal faces away from the viewer (n_z <= 0)
+/// are prohibited (infinite cost), and so are labels that cannot be part of any minimum: label a is
+/// dropped at p when another label b has R_p(a) - R_p(b) > sum_q w_pq |n(a) - n(b)|, since then
+/// switching p from a to b lowers the energy whatever its neighbours are (dead-end elimination).
+class TiltEnergy {
+ public:
+  TiltEnergy(const LocalShape& local, const LightFrame& light, const Mask& mask, const TiltEnergyParams& params);
+
+  int rows() const { return rows_; }
+  int cols() const { return cols_; }
+  int labels() const { return labels_; }
+  const Mask& mask() const { return mask_; }
+
+  /// Tilt of label k, radians, light frame.
+  double label_tilt(int k) const;
+
+  /// R_p(k); +infinity where label k is prohibited at pixel p (p inside the mask).
+  float data_cost(int pixel, int k) const { return data_cost_[std::size_t(k) * (rows_ * cols_) + pixel]; }
+  bool allowed(int pixel, int k) const { return std::isfinite(data_cost(pixel, k)); }
+
+  /// w_pq = sin(min(s_p, s_q)) of the edge from p to its right / lower neighbour; 0 when either pixel
+  /// is outside the mask or the neighbour is outside the image.
+  float weight_right(int pixel) const { return weight_right_[pixel]; }
+  float weight_down(int pixel) const { return weight_down_[pixel]; }
+
+  /// 2 |sin((theta_a - theta_b) / 2)|.
+  float label_distance(int a, int b) const { return chord_[std::size_t((a - b + labels_) % labels_)]; }
+
+  /// Total energy of a labelling (one label per pixel; pixels outside the mask are ignored).
+  double energy(const std::vector<int>& labelling) const;
+
+  /// The Lee-Rosenfeld convex labelling: each pixel takes the allowed label nearest t + pi.
+  std::vector<int> convex_labelling() const;
+
+  /// Number of (pixel, label) pairs still allowed, summed over the mask.
+  std::int64_t allowed_count() const;
+
+ private:
+  int rows_ = 0, cols_ = 0, labels_ = 0;
+  Mask mask_;
+  std::vector<float> data_cost_;  // label-major: one contiguous plane per label, as an expansion move reads it
+  std::vector<float> weight_right_, weight_down_;
+  std::vector<float> chord_;
+  std::vector<float> convex_tilt_;  // t + pi per pixel, NaN where undefined
+};
+
+/// Camera-frame normals of a labelling. With `refine`, a pixel whose label lies within one label step
+/// of a local candidate takes that candidate's exact tilt (the labels decide convex or concave, the
+/// local step keeps its sub-label precision); otherwise, and without `refine`, the label's tilt.
+NormalMap labelling_normals(const std::vector<int>& labelling, const TiltEnergy& energy, const LocalShape& local,
+                            const LightFrame& light, bool refine);
+
+}  // namespace shadecut

@@ -1,0 +1,19 @@
+// Input checks shared by every entry point, so that every layer rejects bad input with one message.
+#pragma once
+
+#include <shadecut/types.hpp>
+
+#include <string>
+
+namespace shadecut {
+
+/// Throws InvalidArgument unless `image` is at least 2 x 2 and every pixel is finite.
+void check_image(const ImageF& image, const std::string& what = "image");
+
+/// Throws InvalidArgument unless `mask` has the shape of `image` and selects at least one pixel.
+void check_mask(const Mask& mask, const ImageF& image);
+
+/// Throws InvalidArgument unless `normals` is rows x cols.
+void check_normals(const NormalMap& normals, int rows, int cols);
+
+}  // namespace shadecut

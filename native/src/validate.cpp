@@ -1,0 +1,28 @@
+#include <shadecut/validate.hpp>
+
+#include <shadecut/errors.hpp>
+
+namespace shadecut {
+
+void check_image(const ImageF& image, const std::string& what) {
+  if (image.rows() < 2 || image.cols() < 2)
+    throw InvalidArgument("shadecut: the " + what + " is " + std::to_string(image.rows()) + " x " +
+                          std::to_string(image.cols()) + " pixels; at least 2 x 2 are needed");
+  if (!image.allFinite()) throw InvalidArgument("shadecut: the " + what + " has NaN or infinite pixels");
+}
+
+void check_mask(const Mask& mask, const ImageF& image) {
+  if (mask.rows() != image.rows() || mask.cols() != image.cols())
+    throw InvalidArgument("shadecut: the mask is " + std::to_string(mask.rows()) + " x " + std::to_string(mask.cols()) +
+                          " but the image is " + std::to_string(image.rows()) + " x " + std::to_string(image.cols()));
+  if (!mask.any()) throw InvalidArgument("shadecut: the mask selects no pixel");
+}
+
+void check_normals(const NormalMap& normals, int rows, int cols) {
+  if (normals.rows != rows || normals.cols != cols || normals.xyz.rows() != normals.size())
+    throw InvalidArgument("shadecut: the normal map is " + std::to_string(normals.rows) + " x " +
+                          std::to_string(normals.cols) + " but " + std::to_string(rows) + " x " + std::to_string(cols) +
+                          " was expected");
+}
+
+}  // namespace shadecut

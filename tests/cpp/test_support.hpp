@@ -1,0 +1,28 @@
+// Synthetic scenes with exact ground truth, shared by the C++ tests.
+#pragma once
+
+#include <shadecut/types.hpp>
+
+#include <Eigen/Core>
+
+#include <string>
+
+namespace shadecut::testing {
+
+/// A rendered surface and its truth.
+struct Scene {
+  ImageF image;      ///< Lambertian render, albedo 1
+  NormalMap normals; ///< exact camera-frame normals
+  ImageF depth;      ///< exact depth, pixel units
+  Mask mask;
+};
+
+/// Sphere of radius radius_fraction * size centred in a size x size image, rendered under `light`
+/// with its analytic normals. `bowl` turns it upside down: the concave inside of the sphere.
+Scene sphere_scene(int size, double radius_fraction, const Eigen::Vector3d& light, bool bowl = false);
+
+/// The Mozart depth map of data/mozart (256 x 256, mask = depth > 0), normals by central differences,
+/// rendered under `light`.
+Scene mozart_scene(const Eigen::Vector3d& light);
+
+}  // namespace shadecut::testing

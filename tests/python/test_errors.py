@@ -1,0 +1,58 @@
+"""Bad input raises a clear Python exception, never a crash."""
+
+import numpy as np
+import pytest
+
+import shadecut
+
+GOOD = np.full((16, 16), 0.5, np.float32)
+GOOD[4:12, 4:12] = np.linspace(0.2, 0.9, 8, dtype=np.float32)
+LIGHT = (1.0, 0.0, 1.0)
+
+
+@pytest.mark.parametrize(
+    "image, light, kwargs, message",
+    [
+        (np.zeros((0, 0), np.float32), LIGHT, {}, "at least 2 x 2"),
+        (np.ones((1, 1), np.float32), LIGHT, {}, "at least 2 x 2"),
+        (np.ones((1, 16), np.float32), LIGHT, {}, "at least 2 x 2"),
+        (np.ones((4, 4, 3), np.float32), LIGHT, {}, "2-D array"),
+        (np.ones(16, np.float32), LIGHT, {}, "2-D array"),
+        (np.where(GOOD > 0.6, np.nan, GOOD), LIGHT, {}, "NaN or infinite"),
+        (np.where(GOOD > 0.6, np.inf, GOOD), LIGHT, {}, "NaN or infinite"),
+        (GOOD, LIGHT, {"mask": np.ones((15, 16), bool)}, "mask is 15 x 16"),
+        (GOOD, LIGHT, {"mask": np.zeros((16, 16), bool)}, "selects no pixel"),
+        (GOOD, (0.0, 0.0, 0.0), {}, "zero vector"),
+        (GOOD, (1.0, 0.0, 0.0), {}, "horizon"),
+        (GOOD, (1.0, 0.0, -1.0), {}, "horizon"),
+        (GOOD, (1.0, 0.0), {}, "3 components"),
+        (np.zeros((16, 16), np.float32), LIGHT, {}, "dark everywhere"),
+        (GOOD, LIGHT, {"labels": 3}, "labels must be"),
+        (GOOD, LIGHT, {"method": "magic"}, "unknown method"),
+        (GOOD, LIGHT, {"integrator": "magic"}, "integrator"),
+        (GOOD, LIGHT, {"maxflow": "magic"}, "max-flow"),
+        (GOOD, LIGHT, {"albedo": -1.0}, "albedo"),
+        (-GOOD, LIGHT, {}, "negative"),
+    ],
+)
+def test_bad_input_raises_value_error(image, light, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        shadecut.reconstruct(image, light, **kwargs)
+
+
+def test_missing_or_unreadable_files_raise_os_error(tmp_path):
+    with pytest.raises(OSError, match="missing.png"):
+        shadecut.load_image(tmp_path / "missing.png")
+    garbage = tmp_path / "garbage.png"
+    garbage.write_bytes(b"not an image at all")
+    with pytest.raises(OSError):
+        shadecut.load_image(garbage)
+
+
+def test_other_functions_check_their_shapes():
+    with pytest.raises(ValueError, match=r"\(H, W, 3\)"):
+        shadecut.integrate(np.zeros((4, 4), np.float32))
+    with pytest.raises(ValueError):
+        shadecut.angular_error(np.zeros((4, 4, 3)), np.zeros((5, 4, 3)))
+    with pytest.raises(ValueError, match="mesh"):
+        shadecut.save_mesh("/tmp/x.stl", np.zeros((4, 4), np.float32))
