@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The one test command: installs the dependencies, builds, and runs every test (C++ and Python).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install_dependencies.sh
+bash scripts/build.sh
+echo "== C++ tests (GoogleTest via ctest)"
+ctest --test-dir build --output-on-failure -j"$(nproc)"
+echo "== Python tests (pytest, system interpreter)"
+PYTHONPATH=addon /usr/bin/python3 -m pytest tests/python -q -p no:cacheprovider
