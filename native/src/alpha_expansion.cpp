@@ -26,7 +26,8 @@ bool build_move(const TiltEnergy& energy, const std::vector<int>& labelling, int
   }
   if (!any) return false;
 
-  // Unary terms are accumulated as the cost of switching (x_p = 1) minus the cost of staying.
+  // Unary terms are accumulated as the cost of switching (x_p = 1) minus the cost of staying, in the
+  // source capacities themselves (saves a buffer); the last loop turns them into terminal capacities.
   std::vector<float>& switch_cost = graph.source_cap;
   std::fill(switch_cost.begin(), switch_cost.end(), 0.0f);
   std::fill(graph.right_cap.begin(), graph.right_cap.end(), 0.0f);

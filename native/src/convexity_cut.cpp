@@ -7,18 +7,9 @@
 
 namespace shadecut {
 
-namespace {
-
-int nearest_label(double tilt, int labels) {
-  const long k = std::lround(tilt / (2.0 * M_PI / labels));
-  return int(((k % labels) + labels) % labels);
-}
-
-}  // namespace
-
 void convexity_cut(const TiltEnergy& energy, const LocalShape& local, std::vector<int>& labelling,
                    MaxFlowSolver& solver) {
-  const int rows = energy.rows(), cols = energy.cols(), n = rows * cols, labels = energy.labels();
+  const int rows = energy.rows(), cols = energy.cols(), n = rows * cols;
   const Mask& mask = energy.mask();
   // candidate[p][0] = concave, [1] = convex; -1 where that candidate is not allowed.
   std::vector<std::array<int, 2>> candidate(std::size_t(n), {-1, -1});
@@ -26,7 +17,7 @@ void convexity_cut(const TiltEnergy& energy, const LocalShape& local, std::vecto
   for (int p = 0; p < n; ++p) {
     if (!mask.data()[p] || !local.tilt_defined.data()[p]) continue;
     const double t = local.tilt.data()[p];
-    const int concave = nearest_label(t, labels), convex = nearest_label(t + M_PI, labels);
+    const int concave = energy.nearest_label(t), convex = energy.nearest_label(t + M_PI);
     candidate[std::size_t(p)] = {energy.allowed(p, concave) ? concave : -1, energy.allowed(p, convex) ? convex : -1};
     const bool has_concave = candidate[std::size_t(p)][0] >= 0, has_convex = candidate[std::size_t(p)][1] >= 0;
     variable[std::size_t(p)] = has_concave && has_convex;

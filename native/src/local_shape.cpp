@@ -3,23 +3,12 @@
 #include <shadecut/errors.hpp>
 #include <shadecut/validate.hpp>
 
+#include "masked_gradient.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace shadecut {
-
-namespace {
-
-// Derivative at `centre` from the masked neighbours at -1 / +1 steps (nullptr: not available).
-double derivative(const float* before, float centre, const float* after, bool* defined) {
-  *defined = before || after;
-  if (before && after) return 0.5 * (double(*after) - double(*before));
-  if (after) return double(*after) - centre;
-  if (before) return centre - double(*before);
-  return 0.0;
-}
-
-}  // namespace
 
 LocalShape local_shape(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
                        double min_gradient) {
@@ -34,16 +23,10 @@ LocalShape local_shape(const ImageF& image, const Mask& mask, const LightFrame& 
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
       if (!mask(r, c)) continue;
-      auto at = [&](int rr, int cc) -> const float* {
-        if (rr < 0 || rr >= rows || cc < 0 || cc >= cols || !mask(rr, cc)) return nullptr;
-        return &image(rr, cc);
-      };
       local.slant(r, c) = float(std::acos(std::clamp(double(image(r, c)) / albedo, 0.0, 1.0)));
-      bool has_x = false, has_y = false;
-      const double ix = derivative(at(r, c - 1), image(r, c), at(r, c + 1), &has_x);
-      // y is up: the row below is the -y neighbour.
-      const double iy = derivative(at(r + 1, c), image(r, c), at(r - 1, c), &has_y);
-      if (!has_x || !has_y || std::hypot(ix, iy) < min_gradient * albedo) continue;
+      const detail::MaskedGradient g = detail::masked_gradient(image, mask, r, c);
+      const double ix = g.dx, iy = g.dy;
+      if (!g.has_x || !g.has_y || std::hypot(ix, iy) < min_gradient * albedo) continue;
       local.tilt(r, c) = float(std::atan2(iy * cos_lt - ix * sin_lt, cos_ls * (ix * cos_lt + iy * sin_lt)));
       local.tilt_defined(r, c) = true;
     }

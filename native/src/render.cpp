@@ -4,22 +4,11 @@
 #include <shadecut/light.hpp>
 #include <shadecut/validate.hpp>
 
+#include "masked_gradient.hpp"
+
 #include <algorithm>
 
 namespace shadecut {
-
-namespace {
-
-// Derivative along one axis at (r, c) from the masked neighbours only; `before`/`after` are the
-// neighbours at -1 / +1 steps along the axis (nullptr when outside the image or the mask).
-float masked_derivative(float centre, const float* before, const float* after) {
-  if (before && after) return 0.5f * (*after - *before);
-  if (after) return *after - centre;
-  if (before) return centre - *before;
-  return 0.0f;
-}
-
-}  // namespace
 
 NormalMap normals_from_depth(const ImageF& depth, const Mask& mask) {
   check_image(depth, "depth map");
@@ -29,15 +18,8 @@ NormalMap normals_from_depth(const ImageF& depth, const Mask& mask) {
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
       if (!mask(r, c)) continue;
-      auto at = [&](int rr, int cc) -> const float* {
-        if (rr < 0 || rr >= rows || cc < 0 || cc >= cols || !mask(rr, cc)) return nullptr;
-        return &depth(rr, cc);
-      };
-      const float dz_dx = masked_derivative(depth(r, c), at(r, c - 1), at(r, c + 1));
-      // y is up, so the row below is one step in -y.
-      const float dz_dy = masked_derivative(depth(r, c), at(r + 1, c), at(r - 1, c));
-      Eigen::Vector3f n(-dz_dx, -dz_dy, 1.0f);
-      normals.xyz.row(Eigen::Index(r) * cols + c) = n.normalized();
+      const detail::MaskedGradient g = detail::masked_gradient(depth, mask, r, c);
+      normals.xyz.row(Eigen::Index(r) * cols + c) = Eigen::Vector3d(-g.dx, -g.dy, 1.0).normalized().cast<float>();
     }
   }
   return normals;

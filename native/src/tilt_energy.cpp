@@ -26,14 +26,14 @@ double angle_distance(double a, double b) {
   return d > M_PI ? 2.0 * M_PI - d : d;
 }
 
-int nearest_label(double tilt, int labels) {
-  const long k = std::lround(tilt / (2.0 * M_PI / labels));
-  return int(((k % labels) + labels) % labels);
-}
-
 }  // namespace
 
 double TiltEnergy::label_tilt(int k) const { return 2.0 * M_PI * k / labels_; }
+
+int TiltEnergy::nearest_label(double tilt) const {
+  const long k = std::lround(tilt / (2.0 * M_PI / labels_));
+  return int(((k % labels_) + labels_) % labels_);
+}
 
 TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const Mask& mask,
                        const TiltEnergyParams& params)
@@ -82,7 +82,7 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     const bool defined = local.tilt_defined.data()[p];
     const double t = local.tilt.data()[p];
     if (defined) convex_tilt_[std::size_t(p)] = float(t + M_PI);
-    const int concave_label = nearest_label(t, k_count), convex_label = nearest_label(t + M_PI, k_count);
+    const int concave_label = nearest_label(t), convex_label = nearest_label(t + M_PI);
 
     int most_frontal = 0;
     double best_nz = -2.0;

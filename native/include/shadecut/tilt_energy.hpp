@@ -53,6 +53,9 @@ class TiltEnergy {
   /// Tilt of label k, radians, light frame.
   double label_tilt(int k) const;
 
+  /// The label whose tilt is nearest `tilt` (radians, any value).
+  int nearest_label(double tilt) const;
+
   /// R_p(k); +infinity where label k is prohibited at pixel p (p inside the mask).
   float data_cost(int pixel, int k) const { return data_cost_[std::size_t(k) * (rows_ * cols_) + pixel]; }
   bool allowed(int pixel, int k) const { return std::isfinite(data_cost(pixel, k)); }

@@ -1,0 +1,36 @@
+"""The command-line tool reads an image file and writes depth, normals and a mesh."""
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+
+import shadecut
+from shadecut import synthetic
+
+CLI = Path(__file__).resolve().parents[2] / "build" / "native" / "shadecut"
+
+
+def run(*args):
+    return subprocess.run([str(CLI), *map(str, args)], capture_output=True, text=True, timeout=120)
+
+
+def test_reconstructs_a_png_with_alpha(tmp_path):
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=64)
+    shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)
+    done = run(tmp_path / "sphere.png", "--light", "1,0,1", "--out", tmp_path / "out", "--quiet")
+    assert done.returncode == 0, done.stderr
+    for name in ("depth.exr", "depth.png", "normals.exr", "normals.png", "mesh.ply"):
+        assert (tmp_path / "out" / name).stat().st_size > 0
+    depth = shadecut.load_image(tmp_path / "out" / "depth.exr")
+    np.testing.assert_array_equal(depth.mask, sphere.mask)  # the alpha channel was the mask
+
+
+def test_bad_arguments_exit_2_with_a_message(tmp_path):
+    assert run("--help").returncode == 0
+    missing = run(tmp_path / "none.png", "--light", "1,0,1")
+    assert missing.returncode == 2 and "none.png" in missing.stderr
+    below = run(tmp_path / "none.png", "--light", "1,0,-1")
+    assert below.returncode == 2
+    no_light = run(tmp_path / "x.png")
+    assert no_light.returncode == 2 and "--light" in no_light.stderr
