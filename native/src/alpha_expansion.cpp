@@ -115,10 +115,17 @@ AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& 
   std::vector<std::uint8_t> variable(pixels), sink_side, is_changed(pixels, 0);
   std::vector<int> changed;
 
+  // An expansion of a label that nothing has changed since its last expansion would find the same
+  // cut, and so would one whose own move was the last change (expansion moves are idempotent): both
+  // are skipped. `step` counts label visits; -1 = never.
+  std::vector<long> solved_at(std::size_t(labels), -1);
+  long step = 0, last_change = -1;
   for (int cycle = 0; cycle < max_cycles; ++cycle) {
     bool improved = false;
-    for (int alpha = 0; alpha < labels; ++alpha) {
-      if (build_move(energy, labelling, alpha, graph, variable)) {
+    for (int alpha = 0; alpha < labels; ++alpha, ++step) {
+      const bool nothing_new = solved_at[std::size_t(alpha)] >= 0 && solved_at[std::size_t(alpha)] >= last_change;
+      if (!nothing_new && build_move(energy, labelling, alpha, graph, variable)) {
+        solved_at[std::size_t(alpha)] = step;
         const auto start = std::chrono::steady_clock::now();
         solver.solve(graph, sink_side);
         stats.maxflow_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -137,6 +144,7 @@ AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& 
           current += delta;
           improved = true;
           ++stats.accepted_moves;
+          last_change = step;
         }
       }
       if (on_move && !on_move((cycle + double(alpha + 1) / labels) / max_cycles)) throw Cancelled();
