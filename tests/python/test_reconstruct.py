@@ -12,7 +12,8 @@ PAPER_LIGHTS = [(1.0, 0.0, 1.0), (1.5, 0.866, 1.0), (-0.939, 1.867, 1.0)]
 
 
 def error_of(scene, method, **options):
-    result = shadecut.reconstruct(scene.image, scene.light, scene.mask, method=method, **options)
+    """The paper's setting: light and albedo known."""
+    result = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo, method, **options)
     return scene.mean_error(result.normals), result
 
 
