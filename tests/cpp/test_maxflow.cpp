@@ -235,6 +235,34 @@ TEST(MaxFlow, ExpansionLikeGridsAgreeWithBoost) {
   }
 }
 
+// Like the expansion moves of a real reconstruction, whose data term is weak: terminal arcs are small
+// next to the arcs between pixels, so the flow travels long paths between many small roots, which is
+// where the solver moves terminal flow between neighbouring roots.
+TEST(MaxFlow, WeakTerminalGridsAgreeWithBoost) {
+  std::mt19937 rng(47);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int trial = 0; trial < 16; ++trial) {
+    RandomGraphSpec spec;
+    spec.rows = 20 + 5 * trial;
+    spec.cols = 95 - 4 * trial;
+    spec.zero_fraction = trial % 4 == 0 ? 0.0 : 0.1;
+    spec.isolated_fraction = trial % 2 == 0 ? 0.0 : 0.1;
+    spec.integer_caps = trial % 3 == 2;
+    spec.max_cap = 2.0f;
+    GridGraph g = random_graph(spec, rng);
+    // Integer terminals stay integers (0 or 1) so that exact ties remain common.
+    for (int i = 0; i < g.size(); ++i) {
+      const bool to_source = unit(rng) < 0.5f;
+      float& kept = to_source ? g.source_cap[i] : g.sink_cap[i];
+      float& dropped = to_source ? g.sink_cap[i] : g.source_cap[i];
+      kept = spec.integer_caps ? float(kept > 3.0f) : 0.05f * kept;
+      dropped = 0.0f;
+    }
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    expect_all_solvers_agree(g);
+  }
+}
+
 // Deep trees and many orphans: a single source corner and a single sink corner force every unit of
 // flow across the whole grid.
 TEST(MaxFlow, CornerToCornerGridsAgreeWithBoost) {
