@@ -73,6 +73,7 @@ def reconstruct(
     integrator: str = "poisson",
     maxflow: str = "grid",
     max_cycles: int = 20,
+    tolerance: float = 0.0,
     min_gradient: Optional[float] = None,
     refine: bool = True,
     max_slope: float = 10.0,
@@ -96,6 +97,8 @@ def reconstruct(
         integrator: "poisson" (least squares on the mask) or "frankot_chellappa".
         maxflow: "grid" (ShadeCut's grid solver), "opencv" or "boost".
         max_cycles: upper bound on alpha-expansion cycles.
+        tolerance: also stop when a cycle lowers the energy by no more than this share of it; 0 = only
+            when a cycle lowers it no more (the paper's criterion).
         min_gradient: |grad I| / albedo per pixel below which the local tilt is undefined; None = the
             method's tuned default.
         refine: keep the local step's exact tilt where the label agrees with a candidate.
@@ -108,7 +111,7 @@ def reconstruct(
     result = _core.reconstruct(
         np.asarray(image), _vector3(light), _mask(mask), albedo, method, labels, data_weight, undefined_weight,
         integrator,
-        maxflow, max_cycles, min_gradient, refine, max_slope, fill_shadows, occluding_contour, threads,
+        maxflow, max_cycles, tolerance, min_gradient, refine, max_slope, fill_shadows, occluding_contour, threads,
         progress,
     )
     return Reconstruction(

@@ -32,6 +32,7 @@ options:
   --integrator NAME    poisson (default) or frankot_chellappa
   --maxflow NAME       grid (default), opencv or boost
   --color-space NAME   auto (default), linear or srgb: how the file's values relate to intensity
+  --tolerance T        stop when a cycle lowers the energy by at most T times it (default 0)
   --threads N          threads, 0 = all cores (default)
   --quiet              no progress
 )";
@@ -105,6 +106,8 @@ int main(int argc, char** argv) {
         options.maxflow = shadecut::parse_maxflow_kind(value());
       } else if (arg == "--color-space") {
         color_space = value();
+      } else if (arg == "--tolerance") {
+        options.tolerance = parse_number(arg, value());
       } else if (arg == "--threads") {
         options.threads = int(parse_number(arg, value()));
       } else if (arg == "--quiet") {

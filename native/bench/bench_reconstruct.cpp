@@ -1,6 +1,6 @@
 // Whole-call and per-stage timings of reconstruct() at 256, 512 and 1024 pixels square.
 //
-// Run: ./build/native/shadecut_bench --benchmark_filter=Reconstruct --benchmark_repetitions=5 \
+// Run: ./build/native/shadecut_bench --benchmark_filter=Reconstruct --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true
 #include <shadecut/reconstruct.hpp>
 #include <shadecut/render.hpp>

@@ -86,7 +86,7 @@ Mask mask_or_all(const std::optional<Mask>& mask, Eigen::Index rows, Eigen::Inde
 py::dict reconstruct(const FloatArray& image_array, const std::vector<double>& light,
                      const std::optional<BoolArray>& mask_array, std::optional<double> albedo, const std::string& method,
                      int labels, double data_weight, std::optional<double> undefined_weight, const std::string& integrator, const std::string& maxflow,
-                     int max_cycles, std::optional<double> min_gradient, bool refine, double max_slope, bool fill_shadows,
+                     int max_cycles, double tolerance, std::optional<double> min_gradient, bool refine, double max_slope, bool fill_shadows,
                      bool occluding_contour, int threads, const std::optional<py::function>& progress) {
   const ImageF image = to_image(image_array, "image");
   const std::optional<Mask> mask = to_mask(mask_array);
@@ -98,6 +98,7 @@ py::dict reconstruct(const FloatArray& image_array, const std::vector<double>& l
   options.integrator = shadecut::parse_integrator(integrator);
   options.maxflow = shadecut::parse_maxflow_kind(maxflow);
   options.max_cycles = max_cycles;
+  options.tolerance = tolerance;
   options.min_gradient = min_gradient;
   options.refine = refine;
   options.max_slope = max_slope;
@@ -157,7 +158,7 @@ PYBIND11_MODULE(_core, m) {
   m.def("reconstruct", &reconstruct, py::arg("image"), py::arg("light"), py::arg("mask"), py::arg("albedo"),
         py::arg("method"), py::arg("labels"), py::arg("data_weight"), py::arg("undefined_weight"),
         py::arg("integrator"), py::arg("maxflow"),
-        py::arg("max_cycles"), py::arg("min_gradient"), py::arg("refine"), py::arg("max_slope"), py::arg("fill_shadows"), py::arg("occluding_contour"), py::arg("threads"),
+        py::arg("max_cycles"), py::arg("tolerance"), py::arg("min_gradient"), py::arg("refine"), py::arg("max_slope"), py::arg("fill_shadows"), py::arg("occluding_contour"), py::arg("threads"),
         py::arg("progress"));
 
   m.def("estimate_albedo", [](const FloatArray& image, const std::optional<BoolArray>& mask) {

@@ -97,8 +97,9 @@ double move_delta(const TiltEnergy& energy, const std::vector<int>& labelling, i
 }  // namespace
 
 AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& labelling, MaxFlowSolver& solver,
-                                    int max_cycles, const MoveCallback& on_move) {
+                                    int max_cycles, double tolerance, const MoveCallback& on_move) {
   if (max_cycles < 1) throw InvalidArgument("shadecut: max_cycles must be at least 1");
+  if (!(tolerance >= 0.0) || !std::isfinite(tolerance)) throw InvalidArgument("shadecut: tolerance must be finite and >= 0");
   const int n = energy.rows() * energy.cols(), labels = energy.labels();
   if (labelling.size() != std::size_t(n)) throw InvalidArgument("shadecut: the labelling has the wrong size");
   for (int p = 0; p < n; ++p)
@@ -150,9 +151,10 @@ AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& 
       if (on_move && !on_move((cycle + double(alpha + 1) / labels) / max_cycles)) throw Cancelled();
     }
     ++stats.cycles;
+    const double before = stats.energy_per_cycle.back();
     current = energy.energy(labelling);
     stats.energy_per_cycle.push_back(current);
-    if (!improved) break;
+    if (!improved || before - current <= tolerance * std::abs(before)) break;
   }
   return stats;
 }

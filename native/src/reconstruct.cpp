@@ -122,7 +122,7 @@ Reconstruction reconstruct(const ImageF& image, const Eigen::Vector3d& light, co
     auto solver = make_maxflow_solver(options.maxflow);
     convexity_cut(energy, local, labelling, *solver);
     const AlphaExpansionStats expansion =
-        alpha_expansion(energy, labelling, *solver, options.max_cycles, [&](double fraction) {
+        alpha_expansion(energy, labelling, *solver, options.max_cycles, options.tolerance, [&](double fraction) {
           return !options.progress || options.progress(0.1 + 0.8 * fraction, "graphcut");
         });
     stats.seconds["graphcut"] = seconds_since(stage_start);

@@ -65,6 +65,17 @@ def test_energy_never_rises_and_is_recorded_per_cycle(mozart_path):
         assert set(stats["seconds"]) >= {"local", "energy", "graphcut", "integration", "total"}
 
 
+def test_a_tolerance_stops_earlier_at_the_same_accuracy(mozart_path):
+    mozart = synthetic.mozart(mozart_path)
+    exact_error, exact = error_of(mozart, "graphcut")
+    loose_error, loose = error_of(mozart, "graphcut", tolerance=1e-2)
+    assert loose.stats["cycles"] < exact.stats["cycles"]
+    assert loose.stats["energy"][-1] <= exact.stats["energy"][0]
+    assert abs(loose_error - exact_error) < 0.5
+    with pytest.raises(ValueError, match="tolerance"):
+        error_of(mozart, "graphcut", tolerance=-1.0)
+
+
 def test_every_max_flow_solver_gives_the_same_reconstruction_quality():
     sphere = synthetic.sphere((1.0, 0.0, 1.0), size=64)
     errors = [error_of(sphere, "graphcut", maxflow=kind)[0] for kind in ("grid", "opencv", "boost")]

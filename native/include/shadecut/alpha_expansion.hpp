@@ -22,7 +22,7 @@ struct AlphaExpansionStats {
 using MoveCallback = std::function<bool(double fraction)>;
 
 /// Minimizes `energy` by expansion moves, cycling over the labels until a full cycle lowers the energy
-/// no more (or `max_cycles` cycles). Each move is a minimum cut over the pixels where the label is
+/// no more (or `max_cycles` cycles, or a cycle lowers it by no more than `tolerance` times itself). Each move is a minimum cut over the pixels where the label is
 /// allowed and not already taken (Kolmogorov & Zabih's construction; the pairwise term is a metric, so
 /// every move is graph-representable). A move is kept only if it lowers the energy, so the energy never
 /// rises.
@@ -31,8 +31,9 @@ using MoveCallback = std::function<bool(double fraction)>;
 /// @param[in,out] labelling one allowed label per masked pixel (e.g. energy.convex_labelling()).
 /// @param[in] solver        the max-flow solver; its buffers are reused across moves.
 /// @param[in] max_cycles    >= 1.
+/// @param[in] tolerance     >= 0; 0 = run until a cycle gains nothing (the paper's criterion).
 /// @param[in] on_move       optional progress / cancellation callback.
 AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& labelling, MaxFlowSolver& solver,
-                                    int max_cycles, const MoveCallback& on_move = {});
+                                    int max_cycles, double tolerance = 0.0, const MoveCallback& on_move = {});
 
 }  // namespace shadecut

@@ -44,6 +44,7 @@ struct ReconstructOptions {
   Integrator integrator = Integrator::Poisson;
   MaxFlowKind maxflow = MaxFlowKind::Grid;
   int max_cycles = 20;                      ///< alpha-expansion stops earlier when a cycle gains nothing
+  double tolerance = 0.0;                   ///< ... or gains no more than this share of the energy
   std::optional<double> min_gradient;       ///< |grad I| / albedo below which the local tilt is undefined; unset = method_defaults
   bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
   double max_slope = 10.0;                  ///< gradient clamp of the integrator
