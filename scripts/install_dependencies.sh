@@ -8,6 +8,7 @@ PACKAGES=(
   libeigen3-dev libopencv-dev libopenimageio-dev libboost-dev pybind11-dev
   python3 python3-dev python3-numpy python3-pytest python3-openimageio python3-matplotlib
   googletest libgtest-dev libbenchmark-dev
+  blender xvfb xauth
 )
 
 missing=()
