@@ -1,0 +1,44 @@
+"""Directions from the Blender scene expressed in the image's camera frame (README, "Conventions").
+
+The camera frame is x right, y up, z toward the viewer. That is exactly a Blender camera's local
+frame (it looks down its -Z), so a world vector enters the frame by the camera's inverse rotation.
+An image without a camera lies in the world XY plane seen from +Z: the frame is the world's.
+"""
+
+from __future__ import annotations
+
+import bpy
+from mathutils import Vector
+
+
+class FrameError(ValueError):
+    """A light or camera that cannot give a direction; the message says what to do."""
+
+
+def sun_direction_world(light_object: bpy.types.Object) -> Vector:
+    """Unit vector toward a Sun light, in world coordinates.
+
+    A sun shines along its local -Z, so the light lies along +Z; scale and shear are ignored.
+    """
+    if light_object is None:
+        raise FrameError("No light chosen: pick a Sun in the ShadeCut panel, or type a direction")
+    if light_object.type != "LIGHT":
+        raise FrameError(f"'{light_object.name}' is not a light: pick a Sun light object")
+    if light_object.data.type != "SUN":
+        raise FrameError(
+            f"Light '{light_object.name}' is a {light_object.data.type.lower()} light: the method assumes a "
+            "distant light, so use a Sun (or type the direction)"
+        )
+    return (light_object.matrix_world.to_quaternion() @ Vector((0.0, 0.0, 1.0))).normalized()
+
+
+def world_to_camera_frame(direction: Vector, camera: bpy.types.Object | None) -> Vector:
+    """A world direction in the camera frame of ``camera``, or unchanged when there is none."""
+    if camera is None:
+        return Vector(direction)
+    return camera.matrix_world.to_quaternion().inverted() @ Vector(direction)
+
+
+def light_in_camera_frame(light_object: bpy.types.Object, camera: bpy.types.Object | None) -> Vector:
+    """Unit vector toward the sun ``light_object`` in the camera frame (see the module's note)."""
+    return world_to_camera_frame(sun_direction_world(light_object), camera).normalized()

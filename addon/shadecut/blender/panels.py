@@ -1,0 +1,68 @@
+"""The "ShadeCut" tab in the 3D View's and the Image Editor's sidebars."""
+
+from __future__ import annotations
+
+import bpy
+
+from .operators import SHADECUT_OT_reconstruct
+
+
+def draw_reconstruct_settings(layout, settings) -> None:
+    layout.use_property_split = True
+    layout.use_property_decorate = False
+
+    column = layout.column()
+    column.prop(settings, "image")
+    column.prop(settings, "max_resolution")
+
+    column = layout.column(heading="Light")
+    column.prop(settings, "light_source", expand=True)
+    if settings.light_source == "OBJECT":
+        column.prop(settings, "light_object")
+        column.prop(settings, "frame")
+        if settings.frame == "CAMERA":
+            column.prop(settings, "camera")
+    elif settings.light_source == "DIRECTION":
+        column.prop(settings, "light_direction")
+
+    column = layout.column()
+    column.prop(settings, "method")
+    column.prop(settings, "labels")
+    column.prop(settings, "data_weight")
+    column.prop(settings, "integrator")
+    row = column.row(heading="Albedo")
+    row.prop(settings, "auto_albedo", text="Auto")
+    sub = row.row()
+    sub.active = not settings.auto_albedo
+    sub.prop(settings, "albedo", text="")
+
+    column = layout.column()
+    column.prop(settings, "output")
+    column.prop(settings, "width")
+    column.prop(settings, "depth_scale")
+    column.prop(settings, "density")
+    column.prop(settings, "normal_map")
+
+    layout.use_property_split = False
+    row = layout.row(align=True)
+    row.scale_y = 1.5
+    row.operator(SHADECUT_OT_reconstruct.bl_idname, icon="MOD_DISPLACE")
+    browse = row.operator(SHADECUT_OT_reconstruct.bl_idname, text="", icon="FILEBROWSER")
+    browse.use_file_browser = True
+
+
+class ReconstructPanel:
+    bl_label = "Reconstruct from shading"
+    bl_region_type = "UI"
+    bl_category = "ShadeCut"
+
+    def draw(self, context):
+        draw_reconstruct_settings(self.layout, context.scene.shadecut)
+
+
+class SHADECUT_PT_reconstruct_view3d(ReconstructPanel, bpy.types.Panel):
+    bl_space_type = "VIEW_3D"
+
+
+class SHADECUT_PT_reconstruct_image(ReconstructPanel, bpy.types.Panel):
+    bl_space_type = "IMAGE_EDITOR"

@@ -1,0 +1,282 @@
+"""The add-on inside a real Blender: registration, the operator end to end, errors, light frames."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+from mathutils import Euler, Vector
+
+import shadecut
+from shadecut import synthetic
+from shadecut.blender import frames, operators
+
+LIGHT = (1.0, 0.0, 1.0)
+
+
+@pytest.fixture
+def addon():
+    shadecut.register()
+    yield
+    shadecut.unregister()
+
+
+@pytest.fixture
+def sphere_png(tmp_path):
+    """A sphere rendered by the core and saved as a 16-bit PNG with the mask as alpha."""
+    scene = synthetic.sphere(light=LIGHT, size=96)
+    path = tmp_path / "sphere.png"
+    shadecut.save_image(path, scene.image, scene.mask)
+    return scene, path
+
+
+def add_sun(direction, name="Sun"):
+    """A sun whose light arrives from ``direction`` (world frame): its local +Z points there."""
+    sun = bpy.data.objects.new(name, bpy.data.lights.new(name, "SUN"))
+    sun.rotation_euler = Vector(direction).to_track_quat("Z", "Y").to_euler()
+    bpy.context.collection.objects.link(sun)
+    return sun
+
+
+def pixels_of(image):
+    buffer = np.empty(len(image.pixels), np.float32)
+    image.pixels.foreach_get(buffer)
+    return buffer
+
+
+def scene_state():
+    """What an operator must leave alone: every datablock collection's names and the objects' data."""
+    collections = ("objects", "meshes", "materials", "images", "textures", "lights", "cameras")
+    names = {key: sorted(item.name for item in getattr(bpy.data, key)) for key in collections}
+    transforms = {obj.name: [tuple(row) for row in obj.matrix_basis] for obj in bpy.data.objects}
+    return names, transforms
+
+
+def test_reconstruct_builds_the_core_surface(addon, sphere_png):
+    truth, path = sphere_png
+    image = bpy.data.images.load(str(path))
+    before = pixels_of(image)
+    settings = bpy.context.scene.shadecut
+    settings.image = image
+    settings.light_object = add_sun(LIGHT)
+    settings.width, settings.depth_scale = 3.0, 1.5
+    objects_before = set(bpy.data.objects)
+
+    # The core run on exactly the arrays the operator hands over.
+    job = operators.prepare_job(bpy.context)
+    np.testing.assert_allclose(job.light, np.array(LIGHT) / math.sqrt(2), atol=1e-6)
+    core = shadecut.reconstruct(job.image, job.light, job.mask, method="graphcut")
+
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    new = set(bpy.data.objects) - objects_before
+    assert len(new) == 1
+    obj = new.pop()
+    assert obj.name == "sphere" and obj.type == "MESH"
+    mesh = obj.data
+    assert len(mesh.vertices) == np.count_nonzero(truth.mask)
+
+    co = np.empty(3 * len(mesh.vertices), np.float32)
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    unit = 3.0 / truth.mask.shape[1]
+    np.testing.assert_allclose(co[:, 2], core.depth[truth.mask] * unit * 1.5, rtol=1e-5, atol=1e-5)
+
+    # The mesh's own vertex normals against the analytic sphere, with true proportions.
+    settings.depth_scale = 1.0
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    normals = np.empty(3 * len(mesh.vertices), np.float32)
+    bpy.context.active_object.data.vertices.foreach_get("normal", normals)
+    mesh_normals = np.zeros_like(truth.normals)
+    mesh_normals[truth.mask] = normals.reshape(-1, 3)
+    mesh_error = truth.mean_error(mesh_normals)
+    core_error = truth.mean_error(core.normals)
+    print(f"sphere: core normals {core_error:.2f} deg, mesh vertex normals {mesh_error:.2f} deg")
+    assert mesh_error < core_error + 1.0
+
+    np.testing.assert_array_equal(pixels_of(image), before)
+    assert image.filepath == str(path) and not image.is_dirty
+
+
+def test_result_has_uvs_material_and_smooth_faces(addon, sphere_png):
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    settings.normal_map = True
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    mesh = bpy.context.active_object.data
+    assert all(polygon.use_smooth for polygon in mesh.polygons)
+    assert mesh.uv_layers.active.name == "UVMap"
+    texture = next(node for node in mesh.materials[0].node_tree.nodes if node.type == "TEX_IMAGE")
+    assert texture.image == settings.image
+    normal_map = bpy.data.images["sphere normals"]
+    assert tuple(normal_map.size) == truth.mask.shape[::-1]
+
+
+def test_density_samples_every_nth_pixel(addon, sphere_png):
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    settings.density = 3
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(truth.mask[::3, ::3])
+
+
+def test_displaced_plane_matches_the_mesh_heights(addon, sphere_png):
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    heights = np.array([v.co.z for v in bpy.context.active_object.data.vertices])
+
+    settings.output = "DISPLACE"
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    plane = bpy.context.active_object
+    assert plane.modifiers[0].type == "DISPLACE"
+    assert all(v.co.z == 0 for v in plane.data.vertices)
+    evaluated = plane.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+    displaced = np.array([v.co.z for v in evaluated.vertices])
+    assert np.abs(displaced - heights).mean() < 0.01 * heights.max()
+
+
+def test_max_resolution_downsamples(addon, sphere_png):
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    settings.max_resolution = 48
+    job = operators.prepare_job(bpy.context)
+    assert job.image.shape == (48, 48)
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(job.mask)
+
+
+@pytest.mark.parametrize("suffix", ["png16", "png8", "exr"])
+def test_blender_pixels_are_the_linear_values_load_image_reads(addon, tmp_path, suffix):
+    scene = synthetic.sphere(light=LIGHT, size=64)
+    path = tmp_path / f"sphere_{suffix}.{suffix[:3]}"
+    if suffix == "png8":
+        import OpenImageIO as oiio
+
+        encoded = np.where(scene.image <= 0.0031308, 12.92 * scene.image, 1.055 * scene.image ** (1 / 2.4) - 0.055)
+        buffer = oiio.ImageBuf(oiio.ImageSpec(64, 64, 1, "uint8"))
+        buffer.set_pixels(oiio.ROI(), np.round(encoded * 255).astype(np.uint8))
+        assert buffer.write(str(path))
+    else:
+        shadecut.save_image(path, scene.image, scene.mask)
+    loaded = shadecut.load_image(path)
+    intensity, mask = operators.image_pixels(bpy.data.images.load(str(path)))
+    np.testing.assert_allclose(intensity, loaded.image, atol=2e-4)
+    np.testing.assert_array_equal(mask, loaded.mask)
+
+
+@pytest.mark.parametrize("direction", [(1, 0, 1), (1.5, 0.866, 1), (-0.939, 1.867, 1), (0.3, -0.2, 1), (0, 0, 1)])
+def test_sun_direction_in_the_image_plane_frame(addon, direction):
+    sun = add_sun(direction)
+    bpy.context.view_layer.update()
+    expected = np.array(direction) / np.linalg.norm(direction)
+    np.testing.assert_allclose(frames.light_in_camera_frame(sun, None), expected, atol=1e-6)
+
+
+@pytest.mark.parametrize("camera_rotation", [(0, 0, 0), (math.radians(90), 0, 0), (math.radians(60), 0, math.radians(45))])
+def test_sun_direction_in_a_camera_frame(addon, camera_rotation):
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.rotation_euler = Euler(camera_rotation)
+    camera.scale = (2.0, 2.0, 2.0)  # scale must not leak into directions
+    bpy.context.collection.objects.link(camera)
+    world = Vector((0.2, -0.5, 0.8)).normalized()
+    sun = add_sun(world)
+    bpy.context.view_layer.update()
+    rotation = np.array(Euler(camera_rotation).to_matrix())
+    expected = rotation.T @ np.array(world)  # camera axes are the rotation's columns
+    np.testing.assert_allclose(frames.light_in_camera_frame(sun, camera), expected, atol=1e-6)
+
+    settings = bpy.context.scene.shadecut
+    settings.light_object, settings.frame = sun, "CAMERA"
+    bpy.context.scene.camera = camera
+    light = operators._light(bpy.context, settings)
+    if expected[2] > 0:
+        np.testing.assert_allclose(light, expected, atol=1e-6)
+
+
+def _error_setup(case, sphere_png, tmp_path):
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    if case != "no image":
+        settings.image = bpy.data.images.load(str(path))
+    if case == "no pixels":
+        gone = tmp_path / "gone.png"
+        gone.write_bytes(path.read_bytes())
+        settings.image = bpy.data.images.load(str(gone))
+        gone.unlink()
+        settings.image.reload()
+    elif case == "dark":
+        settings.image = bpy.data.images.new("dark", 32, 32)
+        settings.image.pixels.foreach_set(np.tile([0, 0, 0, 1], 32 * 32).astype(np.float32))
+    elif case == "horizon":
+        settings.light_direction = (1, 0, 0)
+    elif case == "not a sun":
+        lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
+        bpy.context.collection.objects.link(lamp)
+        settings.light_source, settings.light_object = "OBJECT", lamp
+    elif case == "no camera":
+        settings.light_source, settings.light_object, settings.frame = "OBJECT", add_sun(LIGHT), "CAMERA"
+    elif case == "sun below":
+        settings.light_source, settings.light_object = "OBJECT", add_sun((1, 0, -1))
+
+
+@pytest.mark.parametrize("case, message", [
+    ("no image", "No image"),
+    ("no pixels", "has no pixels"),
+    ("dark", "is black"),
+    ("horizon", "at or below the image's horizon"),
+    ("not a sun", "point light"),
+    ("no camera", "No camera"),
+    ("sun below", "at or below the image's horizon"),
+])
+def test_errors_are_reports_and_leave_the_scene_alone(addon, sphere_png, tmp_path, case, message):
+    _error_setup(case, sphere_png, tmp_path)
+    before = scene_state()
+    with pytest.raises(RuntimeError, match=message):  # an ERROR report raises in background mode
+        bpy.ops.shadecut.reconstruct()
+    assert scene_state() == before
+
+
+def test_cancelling_leaves_nothing_behind(addon, sphere_png):
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    job = operators.prepare_job(bpy.context)
+    job.cancel = True  # what Esc sets while the worker thread runs
+    job.run()
+    assert isinstance(job.error, shadecut.Cancelled)
+    before = scene_state()
+
+    class Reports:
+        def report(self, kind, message):
+            self.last = (kind, message)
+
+    reports = Reports()
+    assert operators.finish_job(reports, bpy.context, job) == {"CANCELLED"}
+    assert "cancelled" in reports.last[1]
+    assert scene_state() == before
+
+
+def test_the_worker_thread_gives_the_synchronous_result(addon, sphere_png):
+    import threading
+
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    threaded, direct = operators.prepare_job(bpy.context), operators.prepare_job(bpy.context)
+    worker = threading.Thread(target=threaded.run)
+    worker.start()
+    worker.join()
+    direct.run()
+    assert threaded.error is None and threaded.fraction == 1.0
+    np.testing.assert_array_equal(threaded.result.depth, direct.result.depth)

@@ -1,0 +1,115 @@
+"""The operator as a user meets it: invoked from the UI of a real Blender window (under Xvfb).
+
+    xvfb-run -a blender --factory-startup --enable-event-simulate -P tests/blender/ui_session.py
+
+Checks that the reconstruction runs on a worker thread while Blender keeps handling events, that
+one undo step removes the result, and that Esc cancels cleanly. Blender's exit code is the result:
+timers run outside --python-exit-code's reach, so the script ends the process itself.
+"""
+
+import os
+import sys
+import tempfile
+import threading
+import traceback
+from pathlib import Path
+
+import bpy
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
+import shadecut  # noqa: E402
+from shadecut import synthetic  # noqa: E402
+from shadecut.blender import operators  # noqa: E402
+
+LIGHT = (1.0, 0.0, 1.0)
+state = {"ticks": 0, "fractions": []}
+
+
+def view3d_override():
+    window = bpy.context.window_manager.windows[0]
+    area = next(area for area in window.screen.areas if area.type == "VIEW_3D")
+    region = next(region for region in area.regions if region.type == "WINDOW")
+    return dict(window=window, area=area, region=region)
+
+
+def meshes():
+    return {obj.name for obj in bpy.data.objects if obj.type == "MESH"}
+
+
+def record_progress():
+    original = operators.Job.progress
+
+    def progress(job, fraction, stage):
+        state["fractions"].append(fraction)
+        return original(job, fraction, stage)
+
+    operators.Job.progress = progress
+
+
+def steps():
+    """The test as a generator: each yield waits for Blender's next timer tick."""
+    shadecut.register()
+    record_progress()
+    scene = synthetic.sphere(light=LIGHT, size=512)
+    path = Path(tempfile.mkdtemp()) / "sphere.png"
+    shadecut.save_image(path, scene.image, scene.mask)
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    bpy.ops.ed.undo_push(message="ShadeCut test: before")
+    before = meshes()
+
+    with bpy.context.temp_override(**view3d_override()):
+        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+    ticks_at_start = state["ticks"]
+    while meshes() == before:
+        yield
+        assert state["ticks"] - ticks_at_start < 600, "no result after 60 s"
+    new = meshes() - before
+    assert len(new) == 1, new
+    print(f"ui: result after {state['ticks'] - ticks_at_start} timer ticks; "
+          f"{len(state['fractions'])} progress calls, last {state['fractions'][-1]:.2f}")
+    assert state["ticks"] - ticks_at_start >= 2, "Blender did not run its timers during the reconstruction"
+    assert state["fractions"][-1] == 1.0
+
+    with bpy.context.temp_override(**view3d_override()):
+        bpy.ops.ed.undo()
+    yield
+    assert meshes() == before, f"undo left {meshes() - before}"
+    print("ui: one undo step removed the result")
+
+    state["fractions"].clear()
+    with bpy.context.temp_override(**view3d_override()):
+        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+    while not state["fractions"]:
+        yield
+    bpy.context.window_manager.windows[0].event_simulate(type="ESC", value="PRESS")
+    for _ in range(100):  # the worker stops at its next progress call
+        yield
+        if not any_running():
+            break
+    assert meshes() == before, f"cancelling left {meshes() - before}"
+    assert state["fractions"][-1] < 1.0, "Esc came too late to cancel"
+    print(f"ui: Esc cancelled at {state['fractions'][-1]:.2f}, nothing added")
+
+
+def any_running() -> bool:
+    return any(thread.name == "shadecut-reconstruct" for thread in threading.enumerate())
+
+
+def tick(sequence=steps()):
+    state["ticks"] += 1
+    try:
+        next(sequence)
+        return 0.1
+    except StopIteration:
+        print("ui: all checks passed")
+        code = 0
+    except Exception:
+        traceback.print_exc()
+        code = 1
+    sys.stdout.flush()
+    os._exit(code)
+
+
+bpy.app.timers.register(tick, first_interval=1.0)
