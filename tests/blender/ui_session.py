@@ -4,14 +4,12 @@
 
 Checks that the reconstruction runs on a worker thread while Blender keeps handling events, that
 one undo step removes the result, and that Esc cancels cleanly. Blender's exit code is the result:
-timers run outside --python-exit-code's reach, so the script ends the process itself.
+shadecut.blender.timers ends the process with the script's outcome.
 """
 
-import os
 import sys
 import tempfile
 import threading
-import traceback
 from pathlib import Path
 
 import bpy
@@ -20,6 +18,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
 import shadecut  # noqa: E402
 from shadecut import synthetic  # noqa: E402
 from shadecut.blender import operators  # noqa: E402
+from shadecut.blender.timers import run_steps_then_exit  # noqa: E402
 
 LIGHT = (1.0, 0.0, 1.0)
 state = {"ticks": 0, "fractions": []}
@@ -91,25 +90,15 @@ def steps():
     assert meshes() == before, f"cancelling left {meshes() - before}"
     assert state["fractions"][-1] < 1.0, "Esc came too late to cancel"
     print(f"ui: Esc cancelled at {state['fractions'][-1]:.2f}, nothing added")
+    print("ui: all checks passed")
 
 
 def any_running() -> bool:
     return any(thread.name == "shadecut-reconstruct" for thread in threading.enumerate())
 
 
-def tick(sequence=steps()):
+def count_tick():
     state["ticks"] += 1
-    try:
-        next(sequence)
-        return 0.1
-    except StopIteration:
-        print("ui: all checks passed")
-        code = 0
-    except Exception:
-        traceback.print_exc()
-        code = 1
-    sys.stdout.flush()
-    os._exit(code)
 
 
-bpy.app.timers.register(tick, first_interval=1.0)
+run_steps_then_exit(steps(), 0.1, on_tick=count_tick)

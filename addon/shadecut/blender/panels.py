@@ -5,6 +5,7 @@ from __future__ import annotations
 import bpy
 
 from .operators import SHADECUT_OT_reconstruct
+from .render_operator import draw_render_settings
 
 
 def draw_reconstruct_settings(layout, settings) -> None:
@@ -66,3 +67,14 @@ class SHADECUT_PT_reconstruct_view3d(ReconstructPanel, bpy.types.Panel):
 
 class SHADECUT_PT_reconstruct_image(ReconstructPanel, bpy.types.Panel):
     bl_space_type = "IMAGE_EDITOR"
+
+
+class SHADECUT_PT_render_view3d(bpy.types.Panel):
+    bl_label = "Render Lambertian test image"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "ShadeCut"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        draw_render_settings(self.layout, context)

@@ -21,7 +21,7 @@ class ShadeCutSettings(bpy.types.PropertyGroup):
         description="The shaded image; empty = the image shown in the Image Editor",
     )
     max_resolution: bpy.props.IntProperty(
-        name="Max resolution", default=0, min=0, soft_max=4096, subtype="PIXEL",
+        name="Max size", default=0, min=0, soft_max=4096, subtype="PIXEL",
         description="Downsample so that neither side exceeds this many pixels, for quick previews (0 = full size)",
     )
 
@@ -42,7 +42,7 @@ class ShadeCutSettings(bpy.types.PropertyGroup):
         description="Toward the light, in the camera frame: x right, y up, z toward the viewer",
     )
     frame: bpy.props.EnumProperty(
-        name="Image frame",
+        name="Frame",
         items=(
             ("IMAGE_PLANE", "Image plane", "The image lies in the world XY plane, seen from +Z"),
             ("CAMERA", "Camera", "The image was taken by a camera: the chosen one, or else the scene's"),
@@ -99,5 +99,5 @@ class ShadeCutSettings(bpy.types.PropertyGroup):
         description="One vertex every this many pixels (1 = one per pixel)",
     )
     normal_map: bpy.props.BoolProperty(
-        name="Normal map image", default=False, description="Also store the normals as a new image",
+        name="Normal map", default=False, description="Also store the normals as a new image",
     )
