@@ -280,3 +280,24 @@ def test_the_worker_thread_gives_the_synchronous_result(addon, sphere_png):
     direct.run()
     assert threaded.error is None and threaded.fraction == 1.0
     np.testing.assert_array_equal(threaded.result.depth, direct.result.depth)
+
+
+def test_file_chosen_in_the_browser(addon, sphere_png):
+    truth, path = sphere_png
+    bpy.context.scene.shadecut.light_source = "DIRECTION"
+    assert bpy.ops.shadecut.reconstruct(filepath=str(path)) == {"FINISHED"}
+    assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(truth.mask)
+
+
+def test_estimated_light_reconstructs_the_sphere(addon, sphere_png):
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source = "ESTIMATE"
+    job = operators.prepare_job(bpy.context)
+    assert job.light is None and job.albedo is None
+    job.run()
+    angle = math.degrees(math.acos(np.dot(job.result.light, np.array(LIGHT) / math.sqrt(2))))
+    print(f"estimated light {job.result.light} is {angle:.1f} deg from the truth")
+    assert angle < 10
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
