@@ -1,0 +1,301 @@
+"""The ShadeCut dataset format: one folder per rendered sample, and a manifest listing the samples.
+
+A sample folder holds
+
+- ``image.exr``: the Lambertian image, linear float (channel Y), alpha = mask.
+- ``image.png``: the same image, 16-bit, sRGB-encoded with alpha = mask, so that
+  :func:`shadecut.load_image` returns the linear values of ``image.exr`` (to 16-bit precision;
+  values above 1, which only noise can make, are clipped to 1 there).
+- ``normals.exr``: unit normals in the camera frame (channels R, G, B = x, y, z), 0 outside the mask.
+- ``depth.exr``: **camera-frame z in scene units** (channel Z; alpha = mask, z = 0 outside it). The
+  camera looks down -z, so z is negative in front of it and larger = closer, as in pixel units.
+  ``meta["pixel_size"]`` is the size of one pixel in scene units (for a perspective camera: at the
+  objects' distance), and :func:`load_sample` returns ``z / pixel_size``, i.e. depth in pixel units.
+- ``mask.png``: 8-bit, 255 inside the objects.
+- ``shadow_mask.png`` (only when cast shadows were rendered): 255 where a lit-facing pixel is in a
+  cast shadow.
+- ``albedo.exr`` (only when the objects kept their own colours): per-pixel albedo, linear float.
+- ``meta.json``: the light (unit vector toward the light, camera frame), the albedo, the pixel size,
+  the camera, the resolution, the conventions, the noise and seed, the Blender version, ...
+
+Samples are written atomically (into a hidden temporary folder renamed into place), so a folder named
+like a sample is always complete. A dataset folder holds sample folders plus ``manifest.json`` and
+``manifest.csv``, one entry per sample (``id``, ``shape``, ``folder`` relative to the dataset folder,
+``light``, ``albedo``, ``size``, ``seed``, ...).
+
+Conventions are those of the project README: image row 0 at the top; camera frame x right, y up,
+z toward the viewer (Blender's camera-local axes). This module does not need ``bpy``.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
+import OpenImageIO as oiio
+
+from .api import load_image, save_depth, save_image, save_normals
+
+FORMAT = "shadecut-dataset"
+VERSION = 1
+CONVENTIONS = (
+    "image row 0 at the top, linear intensity; camera frame x right, y up, z toward the viewer "
+    "(Blender camera-local); light points toward the light; depth.exr holds camera-frame z in scene "
+    "units (larger = closer), divide by pixel_size for pixel units; normals unit, camera frame"
+)
+MANIFEST_JSON = "manifest.json"
+MANIFEST_CSV = "manifest.csv"
+_META = "meta.json"
+
+
+@dataclass
+class Sample:
+    """One sample as :func:`load_sample` returns it."""
+
+    id: str
+    folder: Path
+    image: np.ndarray  # (H, W) float32, linear
+    normals: np.ndarray  # (H, W, 3) float32, camera frame, 0 outside the mask
+    depth: np.ndarray  # (H, W) float32, pixel units, larger = closer (camera z: negative), 0 outside the mask
+    mask: np.ndarray  # (H, W) bool
+    light: np.ndarray  # (3,) unit vector toward the light, camera frame
+    albedo: float  # the uniform albedo, or the mean of albedo_map over the mask
+    meta: dict
+    shadow_mask: Optional[np.ndarray] = None  # (H, W) bool, when rendered with cast shadows
+    albedo_map: Optional[np.ndarray] = None  # (H, W) float32, when the objects kept their own colours
+
+
+def _read_channels(path: Path, names: Optional[list[str]] = None) -> np.ndarray:
+    """(H, W, C) float32 pixels of an image file, row 0 at the top; ``names`` picks channels by name
+    (EXR stores them sorted, so "Z" of a Z + A file is not the first)."""
+    image = oiio.ImageInput.open(str(path))
+    if image is None:
+        raise OSError(f"shadecut: cannot read {path}: {oiio.geterror()}")
+    try:
+        spec = image.spec()
+        pixels = image.read_image(oiio.FLOAT)
+    finally:
+        image.close()
+    if pixels is None:
+        raise OSError(f"shadecut: cannot read the pixels of {path}")
+    pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, -1)
+    if names is None:
+        return pixels
+    missing = [name for name in names if name not in spec.channelnames]
+    if missing:
+        raise OSError(f"shadecut: {path} has no channel {missing[0]} (it has {list(spec.channelnames)})")
+    return pixels[..., [list(spec.channelnames).index(name) for name in names]]
+
+
+def _write_mask(path: Path, mask: np.ndarray) -> None:
+    height, width = mask.shape
+    out = oiio.ImageOutput.create(str(path))
+    if out is None or not out.open(str(path), oiio.ImageSpec(width, height, 1, oiio.UINT8)):
+        raise OSError(f"shadecut: cannot write {path}: {oiio.geterror()}")
+    written = out.write_image(np.where(mask, 255, 0).astype(np.uint8)[..., None])
+    out.close()
+    if not written:
+        raise OSError(f"shadecut: cannot write {path}")
+
+
+def _json_ready(value):
+    """Numpy scalars and arrays as plain JSON values."""
+    if isinstance(value, dict):
+        return {str(k): _json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_json_ready(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, Path):
+        return str(value)
+    return value
+
+
+def _unit_light(light) -> np.ndarray:
+    vector = np.asarray(light, dtype=np.float64).reshape(-1)
+    if vector.shape != (3,) or not np.all(np.isfinite(vector)):
+        raise ValueError(f"shadecut: the light must be 3 finite numbers; got {light!r}")
+    length = np.linalg.norm(vector)
+    if length == 0:
+        raise ValueError("shadecut: the light vector is zero")
+    return vector / length
+
+
+def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: dict,
+                 shadow_mask=None, albedo_map=None) -> None:
+    """Writes one sample folder (see the module docstring) atomically.
+
+    ``depth`` is camera-frame z in scene units; ``meta`` must hold ``pixel_size`` (scene units per
+    pixel) so that readers convert it to pixel units. ``light`` is stored normalized. An existing
+    folder of the same name is replaced. The files are written into ``.<name>.partial`` beside the
+    folder, which is then renamed: an interrupted call never leaves a folder named like the sample.
+    """
+    folder = Path(folder)
+    image = np.asarray(image, dtype=np.float32)
+    if image.ndim != 2:
+        raise ValueError(f"shadecut: the image must be (H, W); got shape {image.shape}")
+    shape = image.shape
+    normals = np.asarray(normals, dtype=np.float32)
+    depth = np.asarray(depth, dtype=np.float32)
+    mask = np.asarray(mask, dtype=bool)
+    if normals.shape != (*shape, 3) or depth.shape != shape or mask.shape != shape:
+        raise ValueError(f"shadecut: image {shape}, normals {normals.shape}, depth {depth.shape} and mask "
+                         f"{mask.shape} must share (H, W), normals with 3 channels")
+    for name, extra in (("shadow_mask", shadow_mask), ("albedo_map", albedo_map)):
+        if extra is not None and np.shape(extra) != shape:
+            raise ValueError(f"shadecut: {name} has shape {np.shape(extra)}, not {shape}")
+    if "pixel_size" not in meta or not float(meta["pixel_size"]) > 0:
+        raise ValueError("shadecut: meta must hold a positive 'pixel_size' (scene units per pixel) for depth.exr")
+
+    files = ["image.exr", "image.png", "normals.exr", "depth.exr", "mask.png", _META]
+    if shadow_mask is not None:
+        files.insert(-1, "shadow_mask.png")
+    if albedo_map is not None:
+        files.insert(-1, "albedo.exr")
+    record = dict(meta)
+    record.update(
+        format=FORMAT,
+        version=VERSION,
+        id=meta.get("id", folder.name),
+        light=_unit_light(light).tolist(),
+        albedo=float(albedo),
+        resolution=[shape[1], shape[0]],
+        conventions=CONVENTIONS,
+        files=files,
+    )
+
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    partial = folder.parent / f".{folder.name}.partial"
+    shutil.rmtree(partial, ignore_errors=True)  # left by an earlier run that was killed
+    partial.mkdir()
+    try:
+        save_image(partial / "image.exr", image, mask)
+        save_image(partial / "image.png", image, mask)
+        save_normals(partial / "normals.exr", np.where(mask[..., None], normals, 0).astype(np.float32), mask)
+        save_depth(partial / "depth.exr", depth, mask)
+        _write_mask(partial / "mask.png", mask)
+        if shadow_mask is not None:
+            _write_mask(partial / "shadow_mask.png", np.asarray(shadow_mask, dtype=bool))
+        if albedo_map is not None:
+            save_image(partial / "albedo.exr", np.asarray(albedo_map, dtype=np.float32), mask)
+        (partial / _META).write_text(json.dumps(_json_ready(record), indent=2) + "\n")
+        if folder.exists():
+            previous = folder.parent / f".{folder.name}.previous"
+            shutil.rmtree(previous, ignore_errors=True)
+            folder.rename(previous)
+            partial.rename(folder)
+            shutil.rmtree(previous)
+        else:
+            partial.rename(folder)
+    except BaseException:
+        shutil.rmtree(partial, ignore_errors=True)
+        raise
+
+
+def is_sample(folder) -> bool:
+    """True when ``folder`` is a complete sample (written by :func:`write_sample`)."""
+    return (Path(folder) / _META).is_file()
+
+
+def load_sample_meta(folder) -> dict:
+    """The meta.json of a sample folder, without reading its images."""
+    meta_path = Path(folder) / _META
+    if not meta_path.is_file():
+        raise OSError(f"shadecut: {folder} is not a ShadeCut sample (no {_META})")
+    return json.loads(meta_path.read_text())
+
+
+def load_sample(folder) -> Sample:
+    """Reads a sample folder; depth comes back in pixel units (z / meta["pixel_size"]), 0 outside the mask."""
+    folder = Path(folder)
+    meta = load_sample_meta(folder)
+    mask = _read_channels(folder / "mask.png")[..., 0] > 0.5
+    image = load_image(folder / "image.exr").image
+    normals = _read_channels(folder / "normals.exr", ["R", "G", "B"])
+    z = _read_channels(folder / "depth.exr", ["Z"])[..., 0]
+    depth = np.where(mask, z / np.float32(meta["pixel_size"]), 0).astype(np.float32)
+    shadow_path, albedo_path = folder / "shadow_mask.png", folder / "albedo.exr"
+    return Sample(
+        id=meta.get("id", folder.name),
+        folder=folder,
+        image=image,
+        normals=np.where(mask[..., None], normals, 0).astype(np.float32),
+        depth=depth,
+        mask=mask,
+        light=_unit_light(meta["light"]),
+        albedo=float(meta["albedo"]),
+        meta=meta,
+        shadow_mask=_read_channels(shadow_path)[..., 0] > 0.5 if shadow_path.is_file() else None,
+        albedo_map=load_image(albedo_path).image if albedo_path.is_file() else None,
+    )
+
+
+def _replace_text(path: Path, text: str) -> None:
+    """Writes a file through a temporary one and a rename, so readers never see half of it."""
+    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    temporary.write_text(text)
+    os.replace(temporary, path)
+
+
+def _csv_row(entry: dict) -> dict:
+    """A manifest entry with the light split into light_x/y/z and lists joined, for the CSV."""
+    row = {}
+    for key, value in entry.items():
+        if key == "light":
+            row.update(light_x=value[0], light_y=value[1], light_z=value[2])
+        elif isinstance(value, (list, tuple)):
+            row[key] = " ".join(str(v) for v in value)
+        elif isinstance(value, dict):
+            row[key] = json.dumps(value)
+        else:
+            row[key] = value
+    return row
+
+
+def write_manifest(dataset_dir, entries: list[dict], info: Optional[dict] = None) -> None:
+    """Writes ``manifest.json`` (``{"format", "version", "dataset": info, "samples": entries}``) and
+    ``manifest.csv`` (one row per entry, the light as light_x, light_y, light_z), each atomically."""
+    dataset_dir = Path(dataset_dir)
+    entries = [_json_ready(entry) for entry in entries]
+    for entry in entries:
+        missing = {"id", "shape", "folder", "light", "albedo", "size", "seed"} - entry.keys()
+        if missing:
+            raise ValueError(f"shadecut: manifest entry {entry.get('id')!r} lacks {sorted(missing)}")
+    document = {"format": FORMAT, "version": VERSION, "dataset": _json_ready(info or {}), "samples": entries}
+    _replace_text(dataset_dir / MANIFEST_JSON, json.dumps(document, indent=2) + "\n")
+
+    rows = [_csv_row(entry) for entry in entries]
+    columns: list[str] = []
+    for row in rows:
+        columns += [key for key in row if key not in columns]
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=columns, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    _replace_text(dataset_dir / MANIFEST_CSV, text.getvalue())
+
+
+def load_manifest(dataset_dir) -> list[dict]:
+    """The entries of ``manifest.json``; ``folder`` is relative to ``dataset_dir``."""
+    path = Path(dataset_dir) / MANIFEST_JSON
+    if not path.is_file():
+        raise OSError(f"shadecut: {dataset_dir} holds no {MANIFEST_JSON}")
+    document = json.loads(path.read_text())
+    if document.get("format") != FORMAT:
+        raise OSError(f"shadecut: {path} is not a ShadeCut dataset manifest")
+    return document["samples"]
+
+
+def load_dataset_info(dataset_dir) -> dict:
+    """The dataset-wide settings stored in ``manifest.json`` (the generator's options, seed, ...)."""
+    path = Path(dataset_dir) / MANIFEST_JSON
+    if not path.is_file():
+        raise OSError(f"shadecut: {dataset_dir} holds no {MANIFEST_JSON}")
+    return json.loads(path.read_text()).get("dataset", {})

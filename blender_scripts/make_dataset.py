@@ -1,0 +1,489 @@
+"""Synthetic Lambertian dataset generator: Cycles renders of a catalogue of shapes with exact ground truth.
+
+    blender -b -P blender_scripts/make_dataset.py -- --out DIR [--shapes sphere,torus,...] [--mesh FILE ...]
+        [--lights N | --light X,Y,Z ...] [--slant-min 10] [--slant-max 60] [--size 256] [--albedo 0.8]
+        [--noise SIGMA] [--bits 8|16] [--shadows] [--indirect] [--samples N] [--seed S] [--shard I/N]
+
+Every shape gets ``--lights`` lights drawn with the seed, uniformly over the directions whose slant
+(angle from the viewing direction) lies between --slant-min and --slant-max degrees, every tilt; or
+the --light directions given (camera frame, x right, y up, z toward the viewer). Each sample is a
+folder ``<shape>_<light index>`` in the format of ``shadecut.dataset``; ``manifest.json`` and
+``manifest.csv`` list the finished samples. The lights and the noise depend only on --seed and the
+shape's name, so the same seed gives the same dataset whatever the shard or the other shapes.
+
+Re-running skips the finished samples (an interrupted sample leaves no folder: samples are written
+atomically). ``--shard I/N`` (I from 0 to N-1) renders only the samples whose index modulo N is I,
+so that processes, machines or a batch scheduler's array jobs share a dataset folder; each shard
+refreshes the manifest with what is on disk, and a last run without --shard (everything skipped)
+writes the complete one.
+
+Exit code 0 on success, 1 when a render failed, 2 for bad input (unknown shape, unreadable mesh,
+light at or below the horizon, unwritable output folder...), with a message and no traceback.
+``main(argv)`` runs the generator in-process (argv = the arguments after "--") and returns the code.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import ctypes
+import math
+import os
+import re
+import sys
+import time
+import zlib
+from pathlib import Path
+
+import bpy
+import bmesh
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+if str(REPO / "addon") not in sys.path:
+    sys.path.insert(0, str(REPO / "addon"))
+
+from shadecut import dataset  # noqa: E402  (after the path insert: the repository's package)
+from shadecut.blender import lambertian  # noqa: E402
+from shadecut.blender.mesh import depth_mesh  # noqa: E402
+from shadecut.synthetic import read_depth_text  # noqa: E402
+
+MOZART = REPO / "data" / "mozart" / "moz256.depth"
+CATALOGUE = ("sphere", "torus", "suzanne", "vase", "mozart", "bumps")
+MESH_SUFFIXES = (".obj", ".ply", ".stl", ".blend")
+MANIFEST_INTERVAL = 10.0  # seconds between manifest refreshes while rendering (and once at the end)
+# Planned parameters that a finished sample must share with the plan to be skipped on a re-run.
+PLAN_KEYS = ("shape", "light", "albedo", "size", "seed", "noise", "bits", "shadows", "indirect", "samples")
+
+
+class UsageError(Exception):
+    """Bad input: reported with a message and exit code 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise UsageError(message)
+
+
+def parse_args(argv: list[str]) -> argparse.Namespace:
+    parser = _Parser(prog="blender -b -P blender_scripts/make_dataset.py --",
+                     description="Renders a synthetic Lambertian dataset with exact ground truth "
+                                 "(see the module docstring).")
+    parser.add_argument("--out", type=Path, required=True, help="dataset folder (created if missing)")
+    parser.add_argument("--shapes", help=f"comma-separated built-in shapes from {', '.join(CATALOGUE)} "
+                                         "(default: all of them, or none when --mesh is given)")
+    parser.add_argument("--mesh", type=Path, action="append", default=[],
+                        help="a mesh file (.obj, .ply, .stl, or .blend: its mesh objects) to render as one more "
+                             "shape named after the file; repeatable")
+    parser.add_argument("--lights", type=int, default=3, help="lights drawn per shape (default 3)")
+    parser.add_argument("--light", action="append", default=[], metavar="X,Y,Z",
+                        help="a fixed light direction in the camera frame instead of drawn ones; repeatable")
+    parser.add_argument("--slant-min", type=float, default=10.0, help="degrees (default 10)")
+    parser.add_argument("--slant-max", type=float, default=60.0, help="degrees, below 90 (default 60)")
+    parser.add_argument("--size", type=int, default=256, help="image width and height in pixels (default 256)")
+    parser.add_argument("--albedo", type=float, default=0.8, help="uniform albedo in (0, 1] (default 0.8)")
+    parser.add_argument("--noise", type=float, default=0.0, help="Gaussian noise sigma, linear intensity (default 0)")
+    parser.add_argument("--bits", type=int, choices=(8, 16), help="quantize the image to 8 or 16-bit sRGB codes")
+    parser.add_argument("--shadows", action="store_true", help="cast shadows (off: the paper's model)")
+    parser.add_argument("--indirect", action="store_true", help="indirect light between surfaces")
+    parser.add_argument("--samples", type=int, help="Cycles samples (default: 1 without indirect light, "
+                                                    f"{lambertian.INDIRECT_SAMPLES} with it)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the lights, the noise and the bumps (default 0)")
+    parser.add_argument("--shard", default="0/1", metavar="I/N", help="render only samples I, I+N, I+2N, ...")
+    parser.add_argument("--verbose", action="store_true", help="keep Blender's own output of every render")
+    args = parser.parse_args(argv)
+
+    match = re.fullmatch(r"(\d+)/(\d+)", args.shard)
+    if not match or not int(match[1]) < int(match[2]):
+        raise UsageError(f"--shard must be I/N with 0 <= I < N; got {args.shard!r}")
+    args.shard_index, args.shard_count = int(match[1]), int(match[2])
+    if args.shapes is None:
+        args.shapes = [] if args.mesh else list(CATALOGUE)
+    else:
+        args.shapes = [name.strip() for name in args.shapes.split(",") if name.strip()]
+        unknown = [name for name in args.shapes if name not in CATALOGUE]
+        if unknown:
+            raise UsageError(f"unknown shape(s) {', '.join(unknown)}; the catalogue is {', '.join(CATALOGUE)}")
+    for path in args.mesh:
+        if path.suffix.lower() not in MESH_SUFFIXES:
+            raise UsageError(f"cannot read mesh {path}: the format must be one of {', '.join(MESH_SUFFIXES)}")
+        if not path.is_file():
+            raise UsageError(f"cannot read mesh {path}: no such file")
+    if not args.shapes and not args.mesh:
+        raise UsageError("nothing to render: give --shapes and/or --mesh")
+    if not 8 <= args.size <= 16384:
+        raise UsageError(f"--size must be 8 to 16384 pixels; got {args.size}")
+    if not 0 < args.albedo <= 1:
+        raise UsageError(f"--albedo must be in (0, 1]; got {args.albedo}")
+    if args.noise < 0:
+        raise UsageError(f"--noise must be >= 0; got {args.noise}")
+    if args.samples is not None and args.samples < 1:
+        raise UsageError(f"--samples must be >= 1; got {args.samples}")
+    args.fixed_lights = [parse_light(text) for text in args.light]
+    if not args.fixed_lights:
+        if args.lights < 1:
+            raise UsageError(f"--lights must be >= 1; got {args.lights}")
+        if not 0 <= args.slant_min <= args.slant_max < 90:
+            raise UsageError(f"the slants must satisfy 0 <= --slant-min <= --slant-max < 90 (a light at 90 degrees "
+                             f"or more is at or below the horizon); got {args.slant_min} and {args.slant_max}")
+    return args
+
+
+def parse_light(text: str) -> list[float]:
+    try:
+        vector = np.array([float(v) for v in text.split(",")])
+    except ValueError:
+        raise UsageError(f"--light must be X,Y,Z; got {text!r}") from None
+    if vector.shape != (3,) or not np.all(np.isfinite(vector)) or not np.linalg.norm(vector) > 0:
+        raise UsageError(f"--light must be X,Y,Z: three finite numbers, not all zero; got {text!r}")
+    vector /= np.linalg.norm(vector)
+    if vector[2] <= 1e-6:
+        raise UsageError(f"--light {text} is at or below the horizon: it must come from the viewer's side (z > 0)")
+    return vector.tolist()
+
+
+def shape_rng(seed: int, *names: str) -> np.random.Generator:
+    """A generator that depends only on the seed and the names (not on other shapes or shards)."""
+    return np.random.default_rng([seed, *(zlib.crc32(name.encode()) for name in names)])
+
+
+def draw_lights(rng: np.random.Generator, count: int, slant_min: float, slant_max: float) -> list[list[float]]:
+    """Directions uniform over the solid angle between the two slants (uniform cos slant), any tilt.
+
+    Light k uses the draws 2k and 2k + 1 only, so more --lights extend a dataset without changing the
+    lights it has.
+    """
+    draws = rng.random((count, 2))
+    low, high = math.cos(math.radians(slant_max)), math.cos(math.radians(slant_min))
+    cos_slant = low + (high - low) * draws[:, 0]
+    tilt = 2 * math.pi * draws[:, 1]
+    sin_slant = np.sqrt(1 - cos_slant**2)
+    return np.stack([sin_slant * np.cos(tilt), sin_slant * np.sin(tilt), cos_slant], axis=1).tolist()
+
+
+# --- the catalogue: unit-sized objects not linked to any scene, facing -Y (the fitted camera's view) ---
+
+def _object(name: str, mesh: bpy.types.Mesh, rotation=(0.0, 0.0, 0.0)) -> bpy.types.Object:
+    ob = bpy.data.objects.new(f"ShadeCut {name}", mesh)
+    ob.rotation_euler = rotation
+    return ob
+
+
+def _smooth(mesh: bpy.types.Mesh) -> bpy.types.Mesh:
+    mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), dtype=bool))
+    mesh.update()
+    return mesh
+
+
+def _bmesh_mesh(name: str, build) -> bpy.types.Mesh:
+    work = bmesh.new()
+    try:
+        build(work)
+        mesh = bpy.data.meshes.new(name)
+        work.to_mesh(mesh)
+    finally:
+        work.free()
+    return _smooth(mesh)
+
+
+def _revolution_mesh(name: str, points: np.ndarray, wrap_v: bool) -> bpy.types.Mesh:
+    """A quad mesh from a (U, V, 3) grid of points closed around U (and V when ``wrap_v``).
+
+    Quads (i, j), (i+1, j), (i+1, j+1), (i, j+1) face along dP/du x dP/dv, outward for the surfaces
+    below.
+    """
+    nu, nv = points.shape[:2]
+    index = np.arange(nu * nv).reshape(nu, nv)
+    i = np.arange(nu)[:, None]
+    j = np.arange(nv if wrap_v else nv - 1)[None, :]
+    quads = np.stack(np.broadcast_arrays(index[i, j], index[(i + 1) % nu, j], index[(i + 1) % nu, (j + 1) % nv],
+                                         index[i, (j + 1) % nv]), axis=-1).reshape(-1, 4)
+    mesh = bpy.data.meshes.new(name)
+    mesh.vertices.add(nu * nv)
+    mesh.vertices.foreach_set("co", points.reshape(-1).astype(np.float32))
+    mesh.loops.add(quads.size)
+    mesh.loops.foreach_set("vertex_index", quads.reshape(-1).astype(np.int32))
+    mesh.polygons.add(len(quads))
+    mesh.polygons.foreach_set("loop_start", np.arange(0, quads.size, 4, dtype=np.int32))
+    mesh.polygons.foreach_set("loop_total", np.full(len(quads), 4, dtype=np.int32))
+    mesh.update(calc_edges=True)
+    return _smooth(mesh)
+
+
+def make_sphere(seed: int) -> list:
+    return [_object("sphere", _bmesh_mesh("sphere", lambda bm: bmesh.ops.create_uvsphere(
+        bm, u_segments=128, v_segments=64, radius=1.0)))]
+
+
+def make_torus(seed: int) -> list:
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 96, endpoint=False), np.linspace(0, 2 * np.pi, 48, endpoint=False),
+                       indexing="ij")
+    major, minor = 1.0, 0.4
+    points = np.stack([(major + minor * np.cos(v)) * np.cos(u), (major + minor * np.cos(v)) * np.sin(u),
+                       minor * np.sin(v)], axis=-1)
+    # Axis tilted 60 degrees from the image's up toward the viewer: the hole shows, seen obliquely.
+    return [_object("torus", _revolution_mesh("torus", points, wrap_v=True), (math.radians(60), 0, 0))]
+
+
+def make_suzanne(seed: int) -> list:
+    ob = _object("suzanne", _bmesh_mesh("suzanne", lambda bm: bmesh.ops.create_monkey(bm)))
+    ob.modifiers.new("Subdivision", "SUBSURF").levels = 2
+    return [ob]
+
+
+def make_vase(seed: int) -> list:
+    """A lathe vase (open top, belly, neck, lip), leaning 25 degrees toward the viewer so that the inside
+    of the mouth (a concave surface) shows."""
+    u, h = np.meshgrid(np.linspace(0, 2 * np.pi, 96, endpoint=False), np.linspace(0.0, 2.0, 80), indexing="ij")
+    radius = 0.3 + 0.4 * np.exp(-((h - 0.6) / 0.45) ** 2) + 0.12 * np.exp(-((h - 2.0) / 0.2) ** 2)
+    points = np.stack([radius * np.cos(u), radius * np.sin(u), h - 1.0], axis=-1)
+    return [_object("vase", _revolution_mesh("vase", points, wrap_v=False), (math.radians(25), 0, 0))]
+
+
+def _height_field_object(name: str, depth: np.ndarray, mask: np.ndarray) -> bpy.types.Object:
+    # depth_mesh builds the field seen from +Z; turning it 90 degrees about X makes it face -Y.
+    return _object(name, depth_mesh(name, depth, mask, size=2.0), (math.radians(90), 0, 0))
+
+
+def make_mozart(seed: int) -> list:
+    depth = read_depth_text(MOZART)
+    return [_height_field_object("mozart", depth, depth > 0)]
+
+
+def make_bumps(seed: int) -> list:
+    """Six Gaussian bumps and dents at seeded places, sizes and heights on a 128 x 128 field."""
+    rng = shape_rng(seed, "bumps", "layout")
+    size = 128
+    rows, cols = np.mgrid[0:size, 0:size] / (size - 1) - 0.5
+    depth = np.zeros((size, size))
+    for sign in (1, -1, 1, -1, 1, -1):
+        cx, cy = rng.uniform(-0.32, 0.32, 2)
+        sigma = rng.uniform(0.06, 0.12)
+        amplitude = sign * rng.uniform(0.08, 0.15)
+        depth += amplitude * np.exp(-((cols - cx) ** 2 + (rows - cy) ** 2) / (2 * sigma**2))
+    return [_height_field_object("bumps", depth * size, np.ones((size, size), bool))]
+
+
+BUILDERS = {"sphere": make_sphere, "torus": make_torus, "suzanne": make_suzanne, "vase": make_vase,
+            "mozart": make_mozart, "bumps": make_bumps}
+
+
+def load_mesh_file(path: Path) -> list:
+    """The mesh objects of a file, unlinked from every scene. Raises UsageError when there are none."""
+    before = set(bpy.data.objects)
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".blend":
+            with bpy.data.libraries.load(str(path), link=False) as (source, target):
+                target.objects = list(source.objects)
+        elif suffix == ".obj":
+            bpy.ops.wm.obj_import(filepath=str(path))
+        elif suffix == ".ply":
+            bpy.ops.import_mesh.ply(filepath=str(path))
+        else:
+            bpy.ops.import_mesh.stl(filepath=str(path))
+    except (OSError, RuntimeError, ValueError) as error:
+        raise UsageError(f"cannot read mesh {path}: {error}") from None
+    new = [ob for ob in bpy.data.objects if ob not in before]
+    for ob in new:
+        for collection in list(ob.users_collection):
+            collection.objects.unlink(ob)
+    meshes = [ob for ob in new if ob.type == "MESH" and len(ob.data.vertices) > 0]
+    for ob in new:
+        if ob not in meshes:
+            bpy.data.objects.remove(ob)
+    if not meshes:
+        raise UsageError(f"cannot read mesh {path}: it holds no mesh with vertices")
+    return meshes
+
+
+def remove_objects(objects: list) -> None:
+    for ob in objects:
+        mesh = ob.data
+        bpy.data.objects.remove(ob)
+        if mesh.users == 0:
+            bpy.data.meshes.remove(mesh)
+
+
+# --- the plan, the renders, the manifest ---
+
+def plan(args: argparse.Namespace) -> list[dict]:
+    """Every sample of the dataset, in order, with its parameters (independent of the shard)."""
+    shapes = [(name, None) for name in args.shapes]
+    used = set(args.shapes)
+    for path in args.mesh:
+        name = re.sub(r"[^A-Za-z0-9_-]+", "_", path.stem) or "mesh"
+        unique, count = name, 2
+        while unique in used:
+            unique, count = f"{name}{count}", count + 1
+        used.add(unique)
+        shapes.append((unique, path))
+    entries = []
+    for shape, path in shapes:
+        lights = args.fixed_lights or draw_lights(shape_rng(args.seed, shape, "lights"), args.lights,
+                                                  args.slant_min, args.slant_max)
+        for k, light in enumerate(lights):
+            sample_id = f"{shape}_{k:03d}"
+            entry = {
+                "id": sample_id,
+                "shape": shape,
+                "folder": sample_id,
+                "light": light,
+                "slant_deg": math.degrees(math.acos(min(1.0, light[2]))),
+                "tilt_deg": math.degrees(math.atan2(light[1], light[0])) % 360,
+                "albedo": args.albedo,
+                "size": args.size,
+                "seed": int(shape_rng(args.seed, sample_id, "noise").integers(2**31)),
+                "noise": args.noise,
+                "bits": args.bits,
+                "shadows": args.shadows,
+                "indirect": args.indirect,
+                "samples": args.samples,
+            }
+            if path is not None:
+                entry["mesh_file"] = str(path.resolve())
+            entries.append(entry)
+    return entries
+
+
+def check_output(folder: Path) -> None:
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / f".write_test.{os.getpid()}"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as error:
+        raise UsageError(f"cannot write to the output folder {folder}: {error.strerror or error}") from None
+
+
+def finished(folder: Path, entry: dict) -> bool:
+    """True when the sample exists; UsageError when it exists with other parameters than planned."""
+    if not dataset.is_sample(folder / entry["folder"]):
+        return False
+    meta = dataset.load_sample_meta(folder / entry["folder"])
+    made = meta.get("dataset_entry", {})
+    different = [key for key in PLAN_KEYS if made.get(key) != entry[key]]
+    if different:
+        raise UsageError(f"{folder / entry['folder']} was made with other settings ({', '.join(different)}); "
+                         "use another --out folder, or delete it")
+    return True
+
+
+@contextlib.contextmanager
+def quiet_stdout(enabled: bool):
+    """Sends file descriptor 1 to /dev/null, silencing Blender's per-render lines ("Fra:", "Saved:")."""
+    if not enabled:
+        yield
+        return
+    libc = ctypes.CDLL(None) if os.name == "posix" else None
+    sys.stdout.flush()
+    saved = os.dup(1)
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        yield
+    finally:
+        if libc is not None:
+            libc.fflush(None)  # C-level output buffered during the render must go to /dev/null too
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(null)
+
+
+def render_sample(entry: dict, objects: list, args: argparse.Namespace, folder: Path) -> None:
+    with quiet_stdout(not args.verbose):
+        render = lambertian.render_lambertian(
+            objects, light=entry["light"], resolution=(entry["size"], entry["size"]), albedo=entry["albedo"],
+            shadows=entry["shadows"], indirect=entry["indirect"], noise=entry["noise"], bits=entry["bits"],
+            seed=entry["seed"], samples=entry["samples"])
+    render.meta.update(shape=entry["shape"], dataset_entry=entry)
+    render.write(folder / entry["folder"])
+
+
+def describe(seconds: float) -> str:
+    if seconds < 60:
+        return f"{seconds:.0f} s"
+    if seconds < 3600:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def write_manifest(folder: Path, entries: list[dict], done: set, args: argparse.Namespace) -> None:
+    info = {"generator": "blender_scripts/make_dataset.py", "blender_version": bpy.app.version_string,
+            "shapes": sorted({entry["shape"] for entry in entries}), "samples_planned": len(entries),
+            "seed": args.seed, "size": args.size, "lights_per_shape": len(args.fixed_lights) or args.lights,
+            "slant_range_deg": [args.slant_min, args.slant_max], "albedo": args.albedo, "noise": args.noise,
+            "bits": args.bits, "shadows": args.shadows, "indirect": args.indirect}
+    dataset.write_manifest(folder, [entry for entry in entries if entry["id"] in done], info)
+
+
+def generate(args: argparse.Namespace) -> int:
+    folder = args.out
+    check_output(folder)
+    for path in args.mesh:  # an unreadable file is reported before anything is rendered
+        remove_objects(load_mesh_file(path))
+    entries = plan(args)
+    mine = [entry for index, entry in enumerate(entries) if index % args.shard_count == args.shard_index]
+    done = {entry["id"] for entry in entries if finished(folder, entry)}
+    todo = [entry for entry in mine if entry["id"] not in done]
+    print(f"make_dataset: {len(entries)} samples planned, {len(mine)} in shard {args.shard}, "
+          f"{len(mine) - len(todo)} already done, {len(todo)} to render into {folder}", flush=True)
+
+    failures = 0
+    rendered_seconds = []
+    last_manifest = time.monotonic()
+    shape_objects: dict[str, list] = {}
+    try:
+        for position, entry in enumerate(todo, 1):
+            shape = entry["shape"]
+            if shape not in shape_objects:
+                # Objects of the previous shape go first: only one shape's meshes are alive at a time.
+                for objects in shape_objects.values():
+                    remove_objects(objects)
+                shape_objects = {shape: (load_mesh_file(Path(entry["mesh_file"])) if "mesh_file" in entry
+                                         else BUILDERS[shape](args.seed))}
+            start = time.monotonic()
+            try:
+                render_sample(entry, shape_objects[shape], args, folder)
+            except (RuntimeError, OSError, ValueError) as error:
+                failures += 1
+                print(f"make_dataset: {entry['id']} failed: {error}", file=sys.stderr, flush=True)
+                continue
+            rendered_seconds.append(time.monotonic() - start)
+            done.add(entry["id"])
+            left = len(todo) - position
+            eta = np.mean(rendered_seconds) * left
+            print(f"[{position}/{len(todo)}] {entry['id']} slant {entry['slant_deg']:.1f} tilt "
+                  f"{entry['tilt_deg']:.1f}: {rendered_seconds[-1]:.2f} s; {left} left, about {describe(eta)} to go",
+                  flush=True)
+            if time.monotonic() - last_manifest > MANIFEST_INTERVAL:
+                write_manifest(folder, entries, done, args)
+                last_manifest = time.monotonic()
+    finally:
+        for objects in shape_objects.values():
+            remove_objects(objects)
+        # Other shards may have finished samples meanwhile: list what is on disk now.
+        done |= {entry["id"] for entry in entries if dataset.is_sample(folder / entry["folder"])}
+        write_manifest(folder, entries, done, args)
+    print(f"make_dataset: {len(done)} of {len(entries)} samples done in {folder}"
+          + (f"; {failures} failed" if failures else ""), flush=True)
+    return 1 if failures else 0
+
+
+def main(argv: list[str]) -> int:
+    """Runs the generator with the arguments that follow "--" on Blender's command line."""
+    try:
+        args = parse_args(argv)
+        return generate(args)
+    except UsageError as error:
+        print(f"make_dataset: error: {error}", file=sys.stderr, flush=True)
+        return 2
+    except SystemExit as exit_:  # --help
+        return int(exit_.code or 0)
+    except KeyboardInterrupt:
+        print("make_dataset: interrupted; finished samples are kept, re-run to continue", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []))

@@ -1,0 +1,171 @@
+"""blender_scripts/make_dataset.py run in-process: folders, manifest, seeds, re-runs, shards, bad input."""
+
+import importlib.util
+import math
+import os
+
+import numpy as np
+import pytest
+
+from shadecut import dataset
+
+
+@pytest.fixture(scope="module")
+def make_dataset(repo):
+    spec = importlib.util.spec_from_file_location("make_dataset", repo / "blender_scripts" / "make_dataset.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def run(make_dataset, out, *extra):
+    return make_dataset.main(["--out", str(out), "--shapes", "sphere,suzanne", "--lights", "2", "--size", "64",
+                              "--seed", "3", "--noise", "0.005", *extra])
+
+
+def test_two_shapes_two_lights(make_dataset, tmp_path, capsys):
+    assert run(make_dataset, tmp_path / "a") == 0
+    output = capsys.readouterr().out
+    assert "[4/4] suzanne_001" in output and "to go" in output
+    entries = dataset.load_manifest(tmp_path / "a")
+    assert [e["id"] for e in entries] == ["sphere_000", "sphere_001", "suzanne_000", "suzanne_001"]
+    assert sorted(p.name for p in (tmp_path / "a").iterdir()) == sorted(
+        [e["folder"] for e in entries] + ["manifest.json", "manifest.csv"])
+    assert len((tmp_path / "a" / "manifest.csv").read_text().splitlines()) == 5
+    for entry in entries:
+        assert 10 <= entry["slant_deg"] <= 60 and entry["size"] == 64 and entry["albedo"] == 0.8
+        sample = dataset.load_sample(tmp_path / "a" / entry["folder"])
+        assert sample.image.shape == (64, 64) and sample.mask.any()
+        np.testing.assert_allclose(sample.light, entry["light"])
+        assert sample.meta["shape"] == entry["shape"] and sample.meta["seed"] == entry["seed"]
+        assert sample.meta["noise_sigma"] == 0.005
+    assert dataset.load_dataset_info(tmp_path / "a")["seed"] == 3
+
+    # The same seed gives the same dataset; another seed other lights.
+    assert run(make_dataset, tmp_path / "b") == 0
+    assert dataset.load_manifest(tmp_path / "b") == entries
+    for entry in entries:
+        first = dataset.load_sample(tmp_path / "a" / entry["folder"])
+        second = dataset.load_sample(tmp_path / "b" / entry["folder"])
+        # Equal up to float rounding: Cycles' threads may order a sum differently (1e-7 relative).
+        np.testing.assert_allclose(first.image, second.image, rtol=1e-6, atol=1e-7)
+        np.testing.assert_allclose(first.normals, second.normals, atol=1e-6)
+        np.testing.assert_array_equal(first.mask, second.mask)
+    assert run(make_dataset, tmp_path / "c", "--seed", "4") == 0
+    assert [e["light"] for e in dataset.load_manifest(tmp_path / "c")] != [e["light"] for e in entries]
+    # More lights extend the dataset: the first ones stay, so their samples are skipped.
+    capsys.readouterr()
+    assert make_dataset.main(["--out", str(tmp_path / "b"), "--shapes", "sphere", "--lights", "3", "--size", "64",
+                              "--seed", "3", "--noise", "0.005"]) == 0
+    assert "2 already done, 1 to render" in capsys.readouterr().out
+
+    # A re-run skips everything: no sample is written again.
+    stamps = {p.name: p.stat().st_mtime_ns for p in (tmp_path / "a").glob("*/image.exr")}
+    capsys.readouterr()
+    assert run(make_dataset, tmp_path / "a") == 0
+    assert "4 already done, 0 to render" in capsys.readouterr().out
+    assert {p.name: p.stat().st_mtime_ns for p in (tmp_path / "a").glob("*/image.exr")} == stamps
+    # Other settings into the same folder are refused rather than mixed in.
+    assert run(make_dataset, tmp_path / "a", "--albedo", "0.5") == 2
+    assert "other settings" in capsys.readouterr().err
+
+
+def test_shards_split_the_samples_and_a_missing_sample_is_redone(make_dataset, tmp_path, capsys):
+    assert run(make_dataset, tmp_path, "--shard", "1/2") == 0
+    assert sorted(e["id"] for e in dataset.load_manifest(tmp_path)) == ["sphere_001", "suzanne_001"]
+    assert run(make_dataset, tmp_path, "--shard", "0/2") == 0
+    assert len(dataset.load_manifest(tmp_path)) == 4
+    # A sample folder without meta.json (never made by write_sample, e.g. copied half) is not done.
+    (tmp_path / "sphere_000" / "meta.json").unlink()
+    capsys.readouterr()
+    assert run(make_dataset, tmp_path) == 0
+    assert "3 already done, 1 to render" in capsys.readouterr().out
+    assert dataset.is_sample(tmp_path / "sphere_000")
+
+
+def test_interrupted_run_keeps_finished_samples_and_resumes(make_dataset, tmp_path, monkeypatch, capsys):
+    render_sample = make_dataset.render_sample
+    calls = []
+
+    def interrupted_on_the_third(*args):
+        calls.append(args[0]["id"])
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        render_sample(*args)
+
+    monkeypatch.setattr(make_dataset, "render_sample", interrupted_on_the_third)
+    assert run(make_dataset, tmp_path) == 130
+    assert [e["id"] for e in dataset.load_manifest(tmp_path)] == ["sphere_000", "sphere_001"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["manifest.csv", "manifest.json", "sphere_000", "sphere_001"]
+    monkeypatch.setattr(make_dataset, "render_sample", render_sample)
+    capsys.readouterr()
+    assert run(make_dataset, tmp_path) == 0
+    assert "2 already done, 2 to render" in capsys.readouterr().out
+
+
+def test_every_catalogue_shape_and_fixed_lights(make_dataset, tmp_path):
+    assert make_dataset.main(["--out", str(tmp_path), "--size", "32", "--light", "1,0,1", "--light", "0,-1,2",
+                              "--shadows", "--bits", "8"]) == 0
+    entries = dataset.load_manifest(tmp_path)
+    assert sorted({e["shape"] for e in entries}) == sorted(make_dataset.CATALOGUE)
+    assert len(entries) == 2 * len(make_dataset.CATALOGUE)
+    assert entries[0]["light"] == pytest.approx([2**-0.5, 0, 2**-0.5])
+    for entry in entries:
+        sample = dataset.load_sample(tmp_path / entry["folder"])
+        assert sample.mask.mean() > 0.1, entry["id"]
+        assert sample.shadow_mask is not None and sample.meta["quantization_bits"] == 8
+        # Visible surfaces face the viewer.
+        assert np.mean(sample.normals[sample.mask][:, 2] > 0) > 0.95, entry["id"]
+
+
+def test_mesh_files(make_dataset, tmp_path):
+    ply = tmp_path / "tetra.ply"
+    ply.write_text("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                   "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                   "0 0 0\n1 0 0\n0 0 1\n0 -1 0\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n")
+    assert make_dataset.main(["--out", str(tmp_path / "out"), "--mesh", str(ply), "--lights", "1",
+                              "--size", "32"]) == 0
+    (entry,) = dataset.load_manifest(tmp_path / "out")
+    assert entry["shape"] == "tetra" and entry["mesh_file"] == str(ply)
+    assert dataset.load_sample(tmp_path / "out" / "tetra_000").mask.sum() > 50
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["--mesh", "{tmp}/missing.obj"], "cannot read mesh"),
+    (["--mesh", "{tmp}/garbage.ply"], "cannot read mesh"),
+    (["--mesh", "{tmp}/model.fbx"], "format must be"),
+    (["--shapes", "cube"], "unknown shape"),
+    (["--light", "1,0,-1"], "horizon"),
+    (["--light", "1,0"], "X,Y,Z"),
+    (["--slant-max", "90"], "horizon"),
+    (["--shard", "3/3"], "--shard"),
+    (["--size", "4"], "--size"),
+    (["--bits", "12"], "invalid choice"),
+])
+def test_bad_input_exits_with_a_message(make_dataset, tmp_path, capsys, arguments, message):
+    (tmp_path / "garbage.ply").write_text("this is not a ply file\n")
+    arguments = [a.format(tmp=tmp_path) for a in arguments]
+    assert make_dataset.main(["--out", str(tmp_path / "out"), "--size", "32", *arguments]) == 2
+    error = capsys.readouterr().err
+    assert message in error and "Traceback" not in error
+    assert not dataset.is_sample(tmp_path / "out" / "sphere_000")
+
+
+def test_unwritable_output_folder(make_dataset, tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    assert make_dataset.main(["--out", str(blocker / "dataset"), "--shapes", "sphere", "--size", "32"]) == 2
+    assert "cannot write to the output folder" in capsys.readouterr().err
+    if os.geteuid() != 0:  # root writes into read-only folders anyway
+        readonly = tmp_path / "readonly"
+        readonly.mkdir(mode=0o500)
+        assert make_dataset.main(["--out", str(readonly), "--shapes", "sphere", "--size", "32"]) == 2
+
+
+def test_lights_are_uniform_over_the_slant_band(make_dataset):
+    lights = np.array(make_dataset.draw_lights(make_dataset.shape_rng(0, "x"), 4000, 10, 60))
+    slants = np.degrees(np.arccos(lights[:, 2]))
+    assert slants.min() >= 10 and slants.max() <= 60
+    # Uniform over the solid angle: cos(slant) uniform between cos 60 and cos 10.
+    assert np.mean(lights[:, 2]) == pytest.approx((math.cos(math.radians(10)) + 0.5) / 2, abs=0.01)
+    np.testing.assert_allclose(np.linalg.norm(lights, axis=1), 1)

@@ -1,0 +1,106 @@
+"""The dataset format (shadecut.dataset) without Blender: samples and manifests round-trip."""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+
+import shadecut
+from shadecut import dataset, synthetic
+
+PIXEL_SIZE = 0.01  # scene units per pixel
+
+
+def sphere_sample(tmp_path, name="sphere_000", **extra):
+    scene = synthetic.sphere((1.0, 0.5, 1.0), size=32, albedo=0.8)
+    z = (scene.depth - 100.0) * PIXEL_SIZE  # camera-frame z, in front of the camera (negative)
+    dataset.write_sample(tmp_path / name, image=scene.image, normals=scene.normals, depth=np.where(scene.mask, z, 0),
+                         mask=scene.mask, light=(1.0, 0.5, 1.0), albedo=0.8,
+                         meta={"pixel_size": PIXEL_SIZE, "shape": "sphere"}, **extra)
+    return scene
+
+
+def test_sample_round_trip(tmp_path):
+    scene = sphere_sample(tmp_path)
+    sample = dataset.load_sample(tmp_path / "sphere_000")
+    assert sample.id == "sphere_000" and sample.folder == tmp_path / "sphere_000"
+    np.testing.assert_array_equal(sample.mask, scene.mask)
+    np.testing.assert_allclose(sample.image, scene.image, atol=1e-7)
+    np.testing.assert_allclose(sample.normals, scene.normals, atol=1e-7)
+    np.testing.assert_allclose(sample.depth[scene.mask], scene.depth[scene.mask] - 100.0, atol=1e-3)
+    assert not sample.depth[~scene.mask].any()
+    np.testing.assert_allclose(sample.light, np.array([1.0, 0.5, 1.0]) / 1.5)
+    assert sample.albedo == 0.8 and sample.shadow_mask is None and sample.albedo_map is None
+    assert sample.meta["shape"] == "sphere" and sample.meta["resolution"] == [32, 32]
+    assert sorted(p.name for p in (tmp_path / "sphere_000").iterdir()) == sorted(sample.meta["files"])
+    # The 16-bit PNG gives back the linear values and the mask through the ordinary loader.
+    png = shadecut.load_image(tmp_path / "sphere_000" / "image.png")
+    np.testing.assert_allclose(png.image, scene.image, atol=2e-5)
+    np.testing.assert_array_equal(png.mask, scene.mask)
+
+
+def test_optional_shadow_mask_and_albedo_map(tmp_path):
+    shadow = np.zeros((32, 32), bool)
+    shadow[10:14, 10:20] = True
+    albedo_map = np.full((32, 32), 0.5, np.float32)
+    sphere_sample(tmp_path, shadow_mask=shadow, albedo_map=albedo_map)
+    sample = dataset.load_sample(tmp_path / "sphere_000")
+    np.testing.assert_array_equal(sample.shadow_mask, shadow)
+    np.testing.assert_allclose(sample.albedo_map[sample.mask], 0.5)
+
+
+def test_rewrite_replaces_and_leaves_no_temporary_folder(tmp_path):
+    sphere_sample(tmp_path)
+    sphere_sample(tmp_path)
+    assert [p.name for p in tmp_path.iterdir()] == ["sphere_000"]
+
+
+def test_failed_write_leaves_nothing(tmp_path):
+    with pytest.raises(ValueError, match="pixel_size"):
+        dataset.write_sample(tmp_path / "bad", image=np.zeros((4, 4)), normals=np.zeros((4, 4, 3)),
+                             depth=np.zeros((4, 4)), mask=np.ones((4, 4), bool), light=(0, 0, 1), albedo=1.0, meta={})
+    with pytest.raises(ValueError, match="share"):
+        dataset.write_sample(tmp_path / "bad", image=np.zeros((4, 4)), normals=np.zeros((4, 5, 3)),
+                             depth=np.zeros((4, 4)), mask=np.ones((4, 4), bool), light=(0, 0, 1), albedo=1.0,
+                             meta={"pixel_size": 1.0})
+    assert not any(tmp_path.iterdir())
+    assert not dataset.is_sample(tmp_path / "bad")
+
+
+def test_manifest_json_and_csv(tmp_path):
+    entries = [
+        {"id": f"sphere_{i:03d}", "shape": "sphere", "folder": f"sphere_{i:03d}", "light": [0.1 * i, 0.0, 1.0],
+         "albedo": 0.8, "size": 64, "seed": 7 + i, "slant": 5.7 * i}
+        for i in range(3)
+    ]
+    dataset.write_manifest(tmp_path, entries, {"seed": 7})
+    assert dataset.load_manifest(tmp_path) == entries
+    assert dataset.load_dataset_info(tmp_path) == {"seed": 7}
+    rows = list(csv.DictReader((tmp_path / "manifest.csv").open()))
+    assert [row["id"] for row in rows] == ["sphere_000", "sphere_001", "sphere_002"]
+    assert float(rows[2]["light_x"]) == pytest.approx(0.2) and rows[1]["seed"] == "8"
+    assert json.loads((tmp_path / "manifest.json").read_text())["format"] == "shadecut-dataset"
+    with pytest.raises(ValueError, match="lacks"):
+        dataset.write_manifest(tmp_path, [{"id": "x"}])
+    with pytest.raises(OSError, match="manifest"):
+        dataset.load_manifest(tmp_path / "nowhere")
+
+
+def test_interrupted_write_leaves_no_sample(tmp_path, monkeypatch):
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(dataset, "save_depth", interrupted)  # after image.exr/.png and normals.exr
+    with pytest.raises(KeyboardInterrupt):
+        sphere_sample(tmp_path)
+    assert not any(tmp_path.iterdir())
+
+
+def test_leftover_of_a_killed_write_is_neither_a_sample_nor_kept(tmp_path):
+    partial = tmp_path / ".sphere_000.partial"
+    partial.mkdir()
+    (partial / "image.exr").write_text("half")
+    assert not dataset.is_sample(partial) and not dataset.is_sample(tmp_path / "sphere_000")
+    sphere_sample(tmp_path)
+    assert [p.name for p in tmp_path.iterdir()] == ["sphere_000"]
