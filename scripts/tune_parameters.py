@@ -6,11 +6,13 @@ another bump layout, and Mozart), so the defaults are not fitted to what the tes
 For each method, every combination of its parameters on the grid below is scored by the mean, over
 the training surfaces, of the mean angular error on the mask eroded by 2 pixels; the best wins.
 
-Run: PYTHONPATH=addon /usr/bin/python3 scripts/tune_parameters.py
+Run: PYTHONPATH=addon /usr/bin/python3 scripts/tune_parameters.py [--methods NAME ...]
+(every method of the grid by default; --methods tunes only those named, by the same procedure).
 """
 
 from __future__ import annotations
 
+import argparse
 import itertools
 import sys
 
@@ -53,12 +55,18 @@ GRID = {
     },
     "graphcut_two": {"min_gradient": [1e-3, 3e-3, 1e-2], "undefined_weight": [0.0, 0.05, 0.2, 0.5]},
     "lee_rosenfeld": {"min_gradient": [1e-3, 3e-3, 1e-2]},
+    "brooks_horn": {"smoothness": [0.2, 0.3, 0.5, 1.0, 3.0], "iterations": [500, 2000, 8000], "tolerance": [0.0, 1e-5, 1e-4]},
+    "tsai_shah": {"iterations": [1, 2, 3, 5, 10, 20, 50, 100]},
 }
 
 
 def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--methods", nargs="+", choices=list(GRID), default=list(GRID))
+    methods = parser.parse_args().methods
     surfaces = training_surfaces()
-    for method, grid in GRID.items():
+    for method in methods:
+        grid = GRID[method]
         names = list(grid)
         scored = []
         for values in itertools.product(*grid.values()):

@@ -1,10 +1,23 @@
 """ShadeCut: shape from shading using graph cuts (Chang, Lee & Lee, Pattern Recognition 41, 2008).
 
 The conventions (image axes, camera frame, light direction, depth sign) are those of the project
-README. Importing this package never needs Blender's ``bpy``.
+README. Importing this package never needs Blender's ``bpy``: the add-on's own modules (the
+``blender`` subpackage) are imported only when Blender calls :func:`register`.
 """
 
+bl_info = {
+    "name": "ShadeCut",
+    "author": "ShadeCut developers",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "3D View / Image Editor > Sidebar > ShadeCut",
+    "description": "Reconstruct a 3-D surface from one shaded image (shape from shading by graph cuts)",
+    "category": "3D View",
+}
+
 from .api import (
+    LIGHT_METHODS,
+    METHODS,
     Cancelled,
     LoadedImage,
     Reconstruction,
@@ -12,6 +25,7 @@ from .api import (
     angular_error_map,
     erode_mask,
     estimate_albedo,
+    estimate_light,
     integrate,
     load_image,
     normals_from_depth,
@@ -25,7 +39,22 @@ from .api import (
 
 __version__ = "0.1.0"
 
+
+def register() -> None:
+    """Called by Blender when the add-on is enabled."""
+    from . import blender
+
+    blender.register()
+
+
+def unregister() -> None:
+    from . import blender
+
+    blender.unregister()
+
 __all__ = [
+    "LIGHT_METHODS",
+    "METHODS",
     "Cancelled",
     "LoadedImage",
     "Reconstruction",
@@ -33,6 +62,7 @@ __all__ = [
     "angular_error_map",
     "erode_mask",
     "estimate_albedo",
+    "estimate_light",
     "integrate",
     "load_image",
     "normals_from_depth",

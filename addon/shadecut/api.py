@@ -26,6 +26,12 @@ Cancelled.__doc__ = "Raised when a progress callback returns False."
 
 ProgressCallback = Callable[[float, str], Optional[bool]]
 
+METHODS: tuple = tuple(_core.METHODS)
+"""Every reconstruction method's name, for ``reconstruct(..., method=...)``."""
+
+LIGHT_METHODS: tuple = tuple(_core.LIGHT_METHODS)
+"""Every light estimator's name, for :func:`estimate_light` and ``reconstruct(..., light_method=...)``."""
+
 
 @dataclass
 class Reconstruction:
@@ -34,9 +40,10 @@ class Reconstruction:
     normals: np.ndarray  # (H, W, 3) float32, camera frame; 0 outside the mask
     depth: np.ndarray  # (H, W) float32, pixel units, larger = closer; each mask component's minimum is 0
     mask: np.ndarray  # (H, W) bool
-    albedo: float
-    light: np.ndarray  # (3,) unit vector toward the light, camera frame
-    stats: dict = field(default_factory=dict)  # seconds per stage, energy per cycle, moves, ...
+    albedo: float  # the albedo used: given, estimated with the light, or the brightest pixels
+    light: np.ndarray  # (3,) unit vector toward the light used (given or estimated), camera frame
+    # seconds per stage, iterations, energy per cycle, moves, light_estimated (and light_method), ...
+    stats: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -62,7 +69,7 @@ def _vector3(light: Sequence[float]) -> list[float]:
 
 def reconstruct(
     image,
-    light: Sequence[float],
+    light: Optional[Sequence[float]] = None,
     mask=None,
     albedo: Optional[float] = None,
     method: str = "graphcut",
@@ -73,7 +80,10 @@ def reconstruct(
     integrator: str = "poisson",
     maxflow: str = "grid",
     max_cycles: int = 20,
-    tolerance: float = 0.0,
+    tolerance: Optional[float] = None,
+    iterations: Optional[int] = None,
+    smoothness: Optional[float] = None,
+    light_method: str = "zheng_chellappa",
     min_gradient: Optional[float] = None,
     refine: bool = True,
     max_slope: float = 10.0,
@@ -87,9 +97,13 @@ def reconstruct(
     Args:
         image: (H, W) linear intensity, at least 2 x 2, finite, >= 0.
         light: direction toward the distant light in the camera frame, S_z > 0; normalized here.
+            None = estimated from the image by ``light_method`` (see :func:`estimate_light`), and then
+            also the albedo unless given; ``stats["light_estimated"]`` says so.
         mask: (H, W) bool pixels to reconstruct; None = every pixel.
-        albedo: > 0; None = the brightest value of the 3 x 3 median-filtered image in the mask.
-        method: "graphcut" (eq. 15), "graphcut_two" (eq. 10) or "lee_rosenfeld" (local, convex).
+        albedo: > 0; None = estimated with the light, or with a given light the brightest value of the
+            3 x 3 median-filtered image in the mask.
+        method: one of :data:`METHODS`: "graphcut" (eq. 15), "graphcut_two" (eq. 10),
+            "lee_rosenfeld" (local, convex), "brooks_horn" (variational), "tsai_shah" (linear, depth).
         labels: K discrete tilts, >= 4.
         data_weight: lambda of eq. (15) (graphcut only).
         undefined_weight: pull toward tilt pi where the local tilt is undefined; None = the method's
@@ -97,21 +111,28 @@ def reconstruct(
         integrator: "poisson" (least squares on the mask) or "frankot_chellappa".
         maxflow: "grid" (ShadeCut's grid solver), "opencv" or "boost".
         max_cycles: upper bound on alpha-expansion cycles.
-        tolerance: also stop when a cycle lowers the energy by no more than this share of it; 0 = only
-            when a cycle lowers it no more (the paper's criterion).
+        tolerance: graphcut, graphcut_two: also stop when a cycle lowers the energy by no more than
+            this share of it, 0 = only when a cycle lowers it no more (the paper's criterion);
+            brooks_horn: stop when a sweep moves the normals by no more than this (mean |dn|).
+            None = the method's default (README, "Choosing the parameters").
+        iterations: brooks_horn, tsai_shah: the number of sweeps (an upper bound for brooks_horn);
+            None = the method's tuned default.
+        smoothness: brooks_horn: weight lambda of the smoothness term; None = the tuned default.
+        light_method: the estimator used when ``light`` is None, one of :data:`LIGHT_METHODS`.
         min_gradient: |grad I| / albedo per pixel below which the local tilt is undefined; None = the
             method's tuned default.
         refine: keep the local step's exact tilt where the label agrees with a candidate.
         max_slope: integrator gradient clamp (depth units per pixel).
         fill_shadows: interpolate normals where the image is black (attached shadow).
-        occluding_contour: when filling, take the mask's edge as the object's silhouette.
+        occluding_contour: take the mask's edge as the object's silhouette when filling shadows, and as
+            brooks_horn's boundary condition.
         threads: OpenMP threads, 0 = all cores.
         progress: called as progress(fraction, stage); returning False raises :class:`Cancelled`.
     """
     result = _core.reconstruct(
-        np.asarray(image), _vector3(light), _mask(mask), albedo, method, labels, data_weight, undefined_weight,
-        integrator,
-        maxflow, max_cycles, tolerance, min_gradient, refine, max_slope, fill_shadows, occluding_contour, threads,
+        np.asarray(image), None if light is None else _vector3(light), _mask(mask), albedo, method, labels, data_weight,
+        undefined_weight, integrator, maxflow, max_cycles, tolerance, iterations, smoothness, light_method, min_gradient,
+        refine, max_slope, fill_shadows, occluding_contour, threads,
         progress,
     )
     return Reconstruction(
@@ -161,6 +182,19 @@ def angular_error(n1, n2, mask=None) -> float:
 def erode_mask(mask, pixels: int) -> np.ndarray:
     """The mask shrunk by ``pixels`` steps of 4-neighbour erosion (the image border erodes too)."""
     return _core.erode_mask(_mask(mask), int(pixels))
+
+
+def estimate_light(image, mask=None, method: str = "lee_rosenfeld") -> tuple[np.ndarray, float]:
+    """Estimates (light, albedo) of a Lambertian image: light a (3,) unit vector toward the light.
+
+    ``method``: "lee_rosenfeld" (Lee & Rosenfeld 1985: tilt from the mean direction of the intensity
+    gradients, slant from the mean and mean squared intensity of a sphere without attached shadow) or
+    "zheng_chellappa" (tilt from the mean gradient, slant from the moments of a sphere with its
+    attached shadow). Both assume normals spread like a sphere's over the mask, which should cover
+    the object only. Their measured biases are in the README ("Comparison methods and light estimation").
+    """
+    light, albedo = _core.estimate_light(np.asarray(image), _mask(mask), method)
+    return np.asarray(light), float(albedo)
 
 
 def estimate_albedo(image, mask=None) -> float:

@@ -25,7 +25,7 @@ e.g. 1,0,1 = from the right-front. The image's alpha channel, if any, is the mas
 options:
   --light X,Y,Z        light direction in the camera frame (required, Z > 0)
   --out DIR            output folder (default: shadecut_out)
-  --method NAME        graphcut (default), graphcut_two or lee_rosenfeld
+  --method NAME        graphcut (default), graphcut_two, lee_rosenfeld, brooks_horn or tsai_shah
   --albedo A           albedo (default: estimated from the brightest pixels)
   --labels K           tilt labels (default 36)
   --data-weight L      data weight lambda of graphcut (default 0.2)

@@ -1,4 +1,5 @@
-// Whole-call and per-stage timings of reconstruct() at 256, 512 and 1024 pixels square.
+// Whole-call and per-stage timings of reconstruct() at 256, 512 and 1024 pixels square (the
+// comparison methods brooks_horn and tsai_shah at 256 and 512), default parameters of each method.
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=Reconstruct --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true
@@ -55,17 +56,17 @@ void BM_Reconstruct(benchmark::State& state, Method method, Integrator integrato
   options.method = method;
   options.integrator = integrator;
   std::map<std::string, double> stage_seconds;
-  int cycles = 0;
+  int iterations = 0;
   for (auto _ : state) {
-    const Reconstruction result = reconstruct(scene.image, {1, 0, 1}, &scene.mask, 1.0, options);
+    const Reconstruction result = reconstruct(scene.image, Eigen::Vector3d(1, 0, 1), &scene.mask, 1.0, options);
     for (const auto& [stage, seconds] : result.stats.seconds) stage_seconds[stage] += seconds;
     stage_seconds["maxflow"] += result.stats.maxflow_seconds;
-    cycles = result.stats.cycles;
+    iterations = result.stats.iterations;
     benchmark::DoNotOptimize(result.depth.data());
   }
   for (const auto& [stage, seconds] : stage_seconds)
     state.counters[stage + "_ms"] = benchmark::Counter(1e3 * seconds / double(state.iterations()));
-  state.counters["cycles"] = cycles;
+  state.counters["iterations"] = iterations;
 }
 
 void register_reconstruct_benchmarks() {
@@ -80,6 +81,8 @@ void register_reconstruct_benchmarks() {
       {"graphcut/poisson", Method::GraphCut, Integrator::Poisson, {256, 512}},
       {"graphcut_two/frankot_chellappa", Method::GraphCutTwo, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"lee_rosenfeld/frankot_chellappa", Method::LeeRosenfeld, Integrator::FrankotChellappa, {256, 512, 1024}},
+      {"brooks_horn/frankot_chellappa", Method::BrooksHorn, Integrator::FrankotChellappa, {256, 512}},
+      {"tsai_shah/frankot_chellappa", Method::TsaiShah, Integrator::FrankotChellappa, {256, 512}},
   };
   for (const Case& c : cases) {
     auto* bench = benchmark::RegisterBenchmark((std::string("BM_Reconstruct/") + c.name).c_str(), BM_Reconstruct,

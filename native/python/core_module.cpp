@@ -2,6 +2,7 @@
 // package in addon/shadecut/, which calls these functions.
 #include <shadecut/angular_error.hpp>
 #include <shadecut/errors.hpp>
+#include <shadecut/estimate_light.hpp>
 #include <shadecut/image_io.hpp>
 #include <shadecut/integrate.hpp>
 #include <shadecut/reconstruct.hpp>
@@ -83,10 +84,11 @@ Mask mask_or_all(const std::optional<Mask>& mask, Eigen::Index rows, Eigen::Inde
   return mask ? *mask : Mask::Constant(rows, cols, true);
 }
 
-py::dict reconstruct(const FloatArray& image_array, const std::vector<double>& light,
+py::dict reconstruct(const FloatArray& image_array, const std::optional<std::vector<double>>& light,
                      const std::optional<BoolArray>& mask_array, std::optional<double> albedo, const std::string& method,
                      int labels, double data_weight, std::optional<double> undefined_weight, const std::string& integrator, const std::string& maxflow,
-                     int max_cycles, double tolerance, std::optional<double> min_gradient, bool refine, double max_slope, bool fill_shadows,
+                     int max_cycles, std::optional<double> tolerance, std::optional<int> iterations, std::optional<double> smoothness,
+                     const std::string& light_method, std::optional<double> min_gradient, bool refine, double max_slope, bool fill_shadows,
                      bool occluding_contour, int threads, const std::optional<py::function>& progress) {
   const ImageF image = to_image(image_array, "image");
   const std::optional<Mask> mask = to_mask(mask_array);
@@ -99,6 +101,9 @@ py::dict reconstruct(const FloatArray& image_array, const std::vector<double>& l
   options.maxflow = shadecut::parse_maxflow_kind(maxflow);
   options.max_cycles = max_cycles;
   options.tolerance = tolerance;
+  options.iterations = iterations;
+  options.smoothness = smoothness;
+  options.light_estimator = shadecut::parse_light_estimator(light_method);
   options.min_gradient = min_gradient;
   options.refine = refine;
   options.max_slope = max_slope;
@@ -112,7 +117,8 @@ py::dict reconstruct(const FloatArray& image_array, const std::vector<double>& l
       return answer.is_none() || answer.cast<bool>();
     };
   }
-  const Eigen::Vector3d light_vector = to_vector3(light, "light");
+  std::optional<Eigen::Vector3d> light_vector;
+  if (light) light_vector = to_vector3(*light, "light");
   shadecut::Reconstruction result;
   {
     py::gil_scoped_release release;
@@ -122,6 +128,9 @@ py::dict reconstruct(const FloatArray& image_array, const std::vector<double>& l
   stats["seconds"] = result.stats.seconds;
   stats["energy"] = result.stats.energy_per_cycle;
   stats["cycles"] = result.stats.cycles;
+  stats["iterations"] = result.stats.iterations;
+  stats["light_estimated"] = result.stats.light_estimated;
+  if (result.stats.light_estimated) stats["light_method"] = shadecut::to_string(options.light_estimator);
   stats["moves"] = result.stats.moves;
   stats["accepted_moves"] = result.stats.accepted_moves;
   stats["maxflow_seconds"] = result.stats.maxflow_seconds;
@@ -158,8 +167,20 @@ PYBIND11_MODULE(_core, m) {
   m.def("reconstruct", &reconstruct, py::arg("image"), py::arg("light"), py::arg("mask"), py::arg("albedo"),
         py::arg("method"), py::arg("labels"), py::arg("data_weight"), py::arg("undefined_weight"),
         py::arg("integrator"), py::arg("maxflow"),
-        py::arg("max_cycles"), py::arg("tolerance"), py::arg("min_gradient"), py::arg("refine"), py::arg("max_slope"), py::arg("fill_shadows"), py::arg("occluding_contour"), py::arg("threads"),
+        py::arg("max_cycles"), py::arg("tolerance"), py::arg("iterations"), py::arg("smoothness"), py::arg("light_method"), py::arg("min_gradient"), py::arg("refine"), py::arg("max_slope"), py::arg("fill_shadows"), py::arg("occluding_contour"), py::arg("threads"),
         py::arg("progress"));
+
+  m.attr("METHODS") = py::tuple(py::cast(shadecut::method_names()));
+  m.attr("LIGHT_METHODS") = py::make_tuple(shadecut::to_string(shadecut::LightEstimator::LeeRosenfeld),
+                                           shadecut::to_string(shadecut::LightEstimator::ZhengChellappa));
+
+  m.def("estimate_light", [](const FloatArray& image, const std::optional<BoolArray>& mask, const std::string& method) {
+    const ImageF img = to_image(image, "image");
+    const shadecut::LightEstimator estimator = shadecut::parse_light_estimator(method);
+    const shadecut::LightEstimate estimate =
+        shadecut::estimate_light(img, mask_or_all(to_mask(mask), img.rows(), img.cols()), estimator);
+    return py::make_tuple(std::vector<double>{estimate.light.x(), estimate.light.y(), estimate.light.z()}, estimate.albedo);
+  });
 
   m.def("estimate_albedo", [](const FloatArray& image, const std::optional<BoolArray>& mask) {
     const ImageF img = to_image(image, "image");

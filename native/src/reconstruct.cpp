@@ -1,12 +1,15 @@
 #include <shadecut/reconstruct.hpp>
 
 #include <shadecut/alpha_expansion.hpp>
+#include <shadecut/brooks_horn.hpp>
 #include <shadecut/convexity_cut.hpp>
 #include <shadecut/errors.hpp>
 #include <shadecut/light.hpp>
 #include <shadecut/local_shape.hpp>
+#include <shadecut/render.hpp>
 #include <shadecut/shadow_fill.hpp>
 #include <shadecut/tilt_energy.hpp>
+#include <shadecut/tsai_shah.hpp>
 #include <shadecut/validate.hpp>
 
 #include <opencv2/imgproc.hpp>
@@ -29,29 +32,31 @@ void report(const ProgressCallback& progress, double begin, double end, double w
 
 }  // namespace
 
-Method parse_method(const std::string& name) {
-  if (name == "graphcut") return Method::GraphCut;
-  if (name == "graphcut_two") return Method::GraphCutTwo;
-  if (name == "lee_rosenfeld") return Method::LeeRosenfeld;
-  throw InvalidArgument("shadecut: unknown method '" + name + "'; choose graphcut, graphcut_two or lee_rosenfeld");
+const std::vector<std::string>& method_names() {
+  static const std::vector<std::string> names{"graphcut", "graphcut_two", "lee_rosenfeld", "brooks_horn", "tsai_shah"};
+  return names;
 }
 
-std::string to_string(Method method) {
-  switch (method) {
-    case Method::GraphCut: return "graphcut";
-    case Method::GraphCutTwo: return "graphcut_two";
-    case Method::LeeRosenfeld: return "lee_rosenfeld";
-  }
-  return "unknown";
+Method parse_method(const std::string& name) {
+  const std::vector<std::string>& names = method_names();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return Method(i);
+  std::string choices;
+  for (std::size_t i = 0; i < names.size(); ++i) choices += (i ? ", " : "") + names[i];
+  throw InvalidArgument("shadecut: unknown method '" + name + "'; choose one of " + choices);
 }
+
+std::string to_string(Method method) { return method_names().at(std::size_t(method)); }
 
 MethodDefaults method_defaults(Method method) {
   switch (method) {
-    case Method::GraphCut: return {3e-3, 0.2};
-    case Method::GraphCutTwo: return {1e-2, 0.05};
-    case Method::LeeRosenfeld: return {1e-2, 0.0};
+    case Method::GraphCut: return {3e-3, 0.2, 0.0, 0, 0.0};
+    case Method::GraphCutTwo: return {1e-2, 0.05, 0.0, 0, 0.0};
+    case Method::LeeRosenfeld: return {1e-2, 0.0, 0.0, 0, 0.0};
+    case Method::BrooksHorn: return {0.0, 0.0, 1e-5, 2000, 0.3};
+    case Method::TsaiShah: return {0.0, 0.0, 0.0, 1, 0.0};
   }
-  return {1e-2, 0.0};
+  throw InvalidArgument("shadecut: unknown method");
 }
 
 double estimate_albedo(const ImageF& image, const Mask& mask) {
@@ -68,25 +73,38 @@ double estimate_albedo(const ImageF& image, const Mask& mask) {
   return brightest;
 }
 
-Reconstruction reconstruct(const ImageF& image, const Eigen::Vector3d& light, const Mask* mask_in,
+Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask_in,
                            std::optional<double> albedo_in, const ReconstructOptions& options) {
   const auto start = Clock::now();
   check_image(image);
   const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);
   check_mask(mask, image);
   if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
-  const LightFrame frame = LightFrame::from_direction(light);
   if (options.threads < 0) throw InvalidArgument("shadecut: threads must be >= 0 (0 = all cores)");
   if (options.labels < 4) throw InvalidArgument("shadecut: labels must be at least 4 (got " + std::to_string(options.labels) + ")");
 
   Reconstruction result;
+  ReconstructStats& stats = result.stats;
   result.mask = mask;
+  std::optional<double> albedo = albedo_in;
+  Eigen::Vector3d light_used;
+  if (light) {
+    light_used = *light;
+  } else {
+    report(options.progress, 0.0, 0.0, 0.0, "light");
+    const auto light_start = Clock::now();
+    const LightEstimate estimate = estimate_light(image, mask, options.light_estimator);
+    stats.seconds["light"] = seconds_since(light_start);
+    stats.light_estimated = true;
+    light_used = estimate.light;
+    if (!albedo) albedo = estimate.albedo;
+  }
+  const LightFrame frame = LightFrame::from_direction(light_used);
   result.light = frame.direction;
-  result.albedo = albedo_in ? *albedo_in : estimate_albedo(image, mask);
+  result.albedo = albedo ? *albedo : estimate_albedo(image, mask);
   if (!(result.albedo > 0.0) || !std::isfinite(result.albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
   if ((image * mask.cast<float>()).maxCoeff() <= 1e-6f * result.albedo)
     throw InvalidArgument("shadecut: the image is dark everywhere in the mask; nothing to reconstruct");
-  ReconstructStats& stats = result.stats;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   const int saved_threads = omp_get_max_threads();
   omp_set_num_threads(threads);
@@ -95,43 +113,68 @@ Reconstruction reconstruct(const ImageF& image, const Eigen::Vector3d& light, co
     ~RestoreThreads() { omp_set_num_threads(n); }
   } restore{saved_threads};
 
-  report(options.progress, 0.0, 0.05, 0.0, "local");
-  auto stage_start = Clock::now();
   const MethodDefaults defaults = method_defaults(options.method);
-  const LocalShape local =
-      local_shape(image, mask, frame, result.albedo, options.min_gradient.value_or(defaults.min_gradient));
-  stats.seconds["local"] = seconds_since(stage_start);
+  const double tolerance = options.tolerance.value_or(defaults.tolerance);
+  const int iterations = options.iterations.value_or(defaults.iterations);
+  auto stage_start = Clock::now();
+  auto iteration_progress = [&](const char* stage) {
+    return [&options, stage](double fraction) { return !options.progress || options.progress(0.9 * fraction, stage); };
+  };
 
-  if (options.method == Method::LeeRosenfeld) {
-    result.normals = convex_normals(local, frame, mask);
+  if (options.method == Method::BrooksHorn) {
+    report(options.progress, 0.0, 0.9, 0.0, "brooks_horn");
+    BrooksHornParams params;
+    params.smoothness = options.smoothness.value_or(defaults.smoothness);
+    params.iterations = iterations;
+    params.tolerance = tolerance;
+    params.occluding_contour = options.occluding_contour;
+    BrooksHornResult solved = brooks_horn(image, mask, frame, result.albedo, params, iteration_progress("brooks_horn"));
+    stats.seconds["brooks_horn"] = seconds_since(stage_start);
+    stats.iterations = solved.iterations;
+    result.normals = std::move(solved.normals);
+  } else if (options.method == Method::TsaiShah) {
+    report(options.progress, 0.0, 0.9, 0.0, "tsai_shah");
+    const TsaiShahResult solved = tsai_shah(image, mask, frame, result.albedo, iterations, iteration_progress("tsai_shah"));
+    stats.seconds["tsai_shah"] = seconds_since(stage_start);
+    stats.iterations = solved.iterations;
+    result.normals = normals_from_depth(solved.depth, mask);
   } else {
-    report(options.progress, 0.05, 0.1, 0.0, "energy");
-    stage_start = Clock::now();
-    TiltEnergyParams params;
-    params.labels = options.labels;
-    params.data_weight = options.data_weight;
-    params.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight);
-    params.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
-    params.threads = threads;
-    const TiltEnergy energy(local, frame, mask, params);
-    std::vector<int> labelling = energy.convex_labelling();
-    stats.seconds["energy"] = seconds_since(stage_start);
-    stats.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * options.labels);
+    report(options.progress, 0.0, 0.05, 0.0, "local");
+    const LocalShape local =
+        local_shape(image, mask, frame, result.albedo, options.min_gradient.value_or(defaults.min_gradient));
+    stats.seconds["local"] = seconds_since(stage_start);
+    if (options.method == Method::LeeRosenfeld) {
+      result.normals = convex_normals(local, frame, mask);
+    } else {
+      report(options.progress, 0.05, 0.1, 0.0, "energy");
+      stage_start = Clock::now();
+      TiltEnergyParams params;
+      params.labels = options.labels;
+      params.data_weight = options.data_weight;
+      params.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight);
+      params.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
+      params.threads = threads;
+      const TiltEnergy energy(local, frame, mask, params);
+      std::vector<int> labelling = energy.convex_labelling();
+      stats.seconds["energy"] = seconds_since(stage_start);
+      stats.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * options.labels);
 
-    stage_start = Clock::now();
-    auto solver = make_maxflow_solver(options.maxflow);
-    convexity_cut(energy, local, labelling, *solver);
-    const AlphaExpansionStats expansion =
-        alpha_expansion(energy, labelling, *solver, options.max_cycles, options.tolerance, [&](double fraction) {
-          return !options.progress || options.progress(0.1 + 0.8 * fraction, "graphcut");
-        });
-    stats.seconds["graphcut"] = seconds_since(stage_start);
-    stats.energy_per_cycle = expansion.energy_per_cycle;
-    stats.cycles = expansion.cycles;
-    stats.moves = expansion.moves;
-    stats.accepted_moves = expansion.accepted_moves;
-    stats.maxflow_seconds = expansion.maxflow_seconds;
-    result.normals = labelling_normals(labelling, energy, local, frame, options.refine);
+      stage_start = Clock::now();
+      auto solver = make_maxflow_solver(options.maxflow);
+      convexity_cut(energy, local, labelling, *solver);
+      const AlphaExpansionStats expansion =
+          alpha_expansion(energy, labelling, *solver, options.max_cycles, tolerance, [&](double fraction) {
+            return !options.progress || options.progress(0.1 + 0.8 * fraction, "graphcut");
+          });
+      stats.seconds["graphcut"] = seconds_since(stage_start);
+      stats.energy_per_cycle = expansion.energy_per_cycle;
+      stats.cycles = expansion.cycles;
+      stats.iterations = expansion.cycles;
+      stats.moves = expansion.moves;
+      stats.accepted_moves = expansion.accepted_moves;
+      stats.maxflow_seconds = expansion.maxflow_seconds;
+      result.normals = labelling_normals(labelling, energy, local, frame, options.refine);
+    }
   }
 
   report(options.progress, 0.9, 1.0, 0.0, "integration");

@@ -1,5 +1,7 @@
 #include <shadecut/shadow_fill.hpp>
 
+#include "contour.hpp"
+
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
@@ -21,13 +23,8 @@ int fill_attached_shadows(NormalMap& normals, const ImageF& image, const Mask& m
   const int rows = int(mask.rows()), cols = int(mask.cols()), n = rows * cols;
   auto inside = [&](int r, int c) { return r >= 0 && r < rows && c >= 0 && c < cols && mask(r, c); };
   auto shadowed = [&](int p) { return image.data()[p] <= threshold * albedo; };
-  // Outward unit direction of the mask's edge in the image plane (x right, y up); zero inside the
-  // mask and on the image border, where the edge is only the frame.
   auto outward = [&](int r, int c) -> Eigen::Vector2d {
-    if (!occluding_contour || r == 0 || c == 0 || r == rows - 1 || c == cols - 1) return Eigen::Vector2d::Zero();
-    const Eigen::Vector2d d(double(!inside(r, c + 1)) - double(!inside(r, c - 1)),
-                            double(!inside(r - 1, c)) - double(!inside(r + 1, c)));
-    return d.norm() > 0.5 ? Eigen::Vector2d(d.normalized()) : Eigen::Vector2d::Zero();
+    return occluding_contour ? detail::contour_outward(mask, r, c) : Eigen::Vector2d::Zero();
   };
 
   // Whether an edge turns away from the viewer (a silhouette: normals point outward) or toward it

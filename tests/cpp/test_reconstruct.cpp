@@ -50,8 +50,8 @@ TEST(Reconstruct, RejectsBadInput) {
   EXPECT_THROW(reconstruct(with_nan, light, nullptr, std::nullopt, defaults), InvalidArgument);
   const Mask wrong_shape = Mask::Constant(15, 16, true);
   EXPECT_THROW(reconstruct(scene.image, light, &wrong_shape, std::nullopt, defaults), InvalidArgument);
-  EXPECT_THROW(reconstruct(scene.image, {0, 0, 0}, nullptr, std::nullopt, defaults), InvalidArgument);
-  EXPECT_THROW(reconstruct(scene.image, {1, 0, -0.5}, nullptr, std::nullopt, defaults), InvalidArgument);
+  EXPECT_THROW(reconstruct(scene.image, Eigen::Vector3d(0, 0, 0), nullptr, std::nullopt, defaults), InvalidArgument);
+  EXPECT_THROW(reconstruct(scene.image, Eigen::Vector3d(1, 0, -0.5), nullptr, std::nullopt, defaults), InvalidArgument);
   EXPECT_THROW(reconstruct(ImageF::Zero(16, 16), light, nullptr, std::nullopt, defaults), InvalidArgument);
   ReconstructOptions few_labels;
   few_labels.labels = 3;

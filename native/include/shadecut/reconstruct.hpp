@@ -1,6 +1,7 @@
 // The whole pipeline: one shaded image in, normals and depth out.
 #pragma once
 
+#include <shadecut/estimate_light.hpp>
 #include <shadecut/integrate.hpp>
 #include <shadecut/maxflow.hpp>
 #include <shadecut/types.hpp>
@@ -19,20 +20,30 @@ enum class Method {
   GraphCut,     ///< "graphcut": the paper's eq. (15) energy, minimized by alpha-expansion
   GraphCutTwo,  ///< "graphcut_two": the paper's eq. (10), every pixel restricted to its two candidates
   LeeRosenfeld, ///< "lee_rosenfeld": the local method under the convex assumption (no global step)
+  BrooksHorn,   ///< "brooks_horn": Brooks & Horn's variational iteration (brooks_horn.hpp), normals integrated
+  TsaiShah,     ///< "tsai_shah": Tsai & Shah's linearized depth iteration (tsai_shah.hpp), normals from its depth
 };
 
-/// Parses "graphcut", "graphcut_two" or "lee_rosenfeld"; throws InvalidArgument otherwise.
+/// Every method's name, in the order of the enum.
+const std::vector<std::string>& method_names();
+
+/// Parses one of method_names(); throws InvalidArgument otherwise.
 Method parse_method(const std::string& name);
 std::string to_string(Method method);
 
-/// Progress of a long call: `fraction` in [0, 1] of the whole call, `stage` one of "local", "energy",
-/// "graphcut", "integration". Returning false cancels the call (it throws Cancelled).
+/// Progress of a long call: `fraction` in [0, 1] of the whole call, `stage` one of "light" (estimating
+/// it), "local", "energy", "graphcut", "brooks_horn", "tsai_shah", "integration". Returning false
+/// cancels the call (it throws Cancelled).
 using ProgressCallback = std::function<bool(double fraction, const std::string& stage)>;
 
 /// Per-method defaults chosen by scripts/tune_parameters.py on training surfaces (see the README).
+/// A field a method does not use is 0.
 struct MethodDefaults {
   double min_gradient;
   double undefined_weight;
+  double tolerance;   ///< graphcut, graphcut_two: share of the energy; brooks_horn: mean |dn| per sweep
+  int iterations;     ///< brooks_horn, tsai_shah
+  double smoothness;  ///< brooks_horn
 };
 MethodDefaults method_defaults(Method method);
 
@@ -44,7 +55,10 @@ struct ReconstructOptions {
   Integrator integrator = Integrator::Poisson;
   MaxFlowKind maxflow = MaxFlowKind::Grid;
   int max_cycles = 20;                      ///< alpha-expansion stops earlier when a cycle gains nothing
-  double tolerance = 0.0;                   ///< ... or gains no more than this share of the energy
+  std::optional<double> tolerance;          ///< convergence tolerance (MethodDefaults::tolerance); unset = method_defaults
+  std::optional<int> iterations;            ///< brooks_horn, tsai_shah sweeps; unset = method_defaults
+  std::optional<double> smoothness;         ///< brooks_horn lambda; unset = method_defaults
+  LightEstimator light_estimator = LightEstimator::ZhengChellappa;  ///< used when no light is given
   std::optional<double> min_gradient;       ///< |grad I| / albedo below which the local tilt is undefined; unset = method_defaults
   bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
   double max_slope = 10.0;                  ///< gradient clamp of the integrator
@@ -56,9 +70,12 @@ struct ReconstructOptions {
 };
 
 struct ReconstructStats {
-  std::map<std::string, double> seconds;    ///< "local", "energy", "graphcut", "integration", "total"
+  std::map<std::string, double> seconds;    ///< per stage run ("light", "local", "energy", "graphcut",
+                                            ///< "brooks_horn", "tsai_shah", "integration") and "total"
   std::vector<double> energy_per_cycle;     ///< initial energy, then after every alpha-expansion cycle
   int cycles = 0;
+  int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps; 0 for lee_rosenfeld
+  bool light_estimated = false;             ///< whether the light (and, without a given albedo, the albedo) was estimated
   int moves = 0;
   int accepted_moves = 0;
   double maxflow_seconds = 0.0;
@@ -82,12 +99,14 @@ double estimate_albedo(const ImageF& image, const Mask& mask);
 /// Reconstructs normals and depth from one Lambertian image.
 ///
 /// @param[in] image   H x W linear intensity (>= 2 x 2, finite).
-/// @param[in] light   direction toward the light, camera frame, S_z > 0 (normalized here).
+/// @param[in] light   direction toward the light, camera frame, S_z > 0 (normalized here), or
+///                    std::nullopt to estimate it with options.light_estimator (estimate_light.hpp).
 /// @param[in] mask    H x W pixels to reconstruct, or nullptr for all.
-/// @param[in] albedo  > 0, or std::nullopt to use estimate_albedo.
+/// @param[in] albedo  > 0, or std::nullopt: the light estimator's albedo when the light is estimated,
+///                    estimate_albedo otherwise.
 /// @param[in] options method and parameters.
 /// Throws InvalidArgument for bad input and Cancelled when options.progress returns false.
-Reconstruction reconstruct(const ImageF& image, const Eigen::Vector3d& light, const Mask* mask,
+Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,
                            std::optional<double> albedo, const ReconstructOptions& options);
 
 }  // namespace shadecut

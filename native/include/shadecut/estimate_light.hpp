@@ -1,0 +1,48 @@
+// The light direction and albedo of one image, estimated from its statistics (no shape known).
+#pragma once
+
+#include <shadecut/types.hpp>
+
+#include <Eigen/Core>
+
+#include <string>
+
+namespace shadecut {
+
+enum class LightEstimator {
+  /// "lee_rosenfeld" (Lee & Rosenfeld 1985): tilt = direction of the mean of the unit intensity-gradient
+  /// vectors; slant and albedo from the mean intensity E1 and mean squared intensity E2 of a
+  /// Lambertian sphere seen whole and lit without attached shadow: E1 = 2/3 rho cos(s),
+  /// E2 = rho^2 (1 + cos^2 s) / 4. It ignores the attached shadow, so it underestimates oblique slants.
+  LeeRosenfeld,
+  /// "zheng_chellappa" (after Zheng & Chellappa 1991): tilt = direction of the mean intensity
+  /// gradient (magnitudes kept); slant and albedo from the exact moments of the sphere image with its
+  /// attached shadow: E1 = 2 rho ((pi - s) cos s + sin s) / (3 pi), E2 = rho^2 (1 + cos s)^2 / 8.
+  ZhengChellappa,
+};
+
+/// Parses "lee_rosenfeld" or "zheng_chellappa"; throws InvalidArgument otherwise.
+LightEstimator parse_light_estimator(const std::string& name);
+std::string to_string(LightEstimator estimator);
+
+struct LightEstimate {
+  Eigen::Vector3d light;  ///< unit vector toward the light, camera frame; slant clamped to <= 89 degrees
+  double albedo = 0.0;    ///< > 0
+  double slant = 0.0;     ///< radians, the angle between the light and the viewing direction
+  double tilt = 0.0;      ///< radians, atan2(S_y, S_x); 0 when the image has no gradient at all
+};
+
+/// Estimates light and albedo from the masked pixels of a Lambertian image.
+///
+/// Both estimators assume that the surface normals in the mask are spread like those of a sphere
+/// seen whole (uniformly over the visible hemisphere in image area), and that the mask covers the
+/// object only: background pixels bias the moments. Derivatives are central differences between
+/// masked pixels (y up), taken where both axes have a masked neighbour.
+///
+/// @param[in] image  H x W linear intensity (>= 2 x 2, finite, >= 0).
+/// @param[in] mask   H x W pixels to use.
+/// @param[in] method which estimator.
+/// @throws InvalidArgument for bad input or an image dark everywhere in the mask.
+LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightEstimator method);
+
+}  // namespace shadecut
