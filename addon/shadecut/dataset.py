@@ -72,9 +72,9 @@ class Sample:
     albedo_map: Optional[np.ndarray] = None  # (H, W) float32, when the objects kept their own colours
 
 
-def _read_channels(path: Path, names: Optional[list[str]] = None) -> np.ndarray:
-    """(H, W, C) float32 pixels of an image file, row 0 at the top; ``names`` picks channels by name
-    (EXR stores them sorted, so "Z" of a Z + A file is not the first)."""
+def read_image_channels(path) -> tuple[np.ndarray, list[str]]:
+    """(H, W, C) float32 pixels of any image file OpenImageIO reads, row 0 at the top, and the
+    channel names (EXR stores them sorted, so "Z" of a Z + A file is not the first)."""
     image = oiio.ImageInput.open(str(path))
     if image is None:
         raise OSError(f"shadecut: cannot read {path}: {oiio.geterror()}")
@@ -85,13 +85,18 @@ def _read_channels(path: Path, names: Optional[list[str]] = None) -> np.ndarray:
         image.close()
     if pixels is None:
         raise OSError(f"shadecut: cannot read the pixels of {path}")
-    pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, -1)
+    return np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, -1), list(spec.channelnames)
+
+
+def _read_channels(path: Path, names: Optional[list[str]] = None) -> np.ndarray:
+    """(H, W, C) pixels of an image file; ``names`` picks channels by name."""
+    pixels, channel_names = read_image_channels(path)
     if names is None:
         return pixels
-    missing = [name for name in names if name not in spec.channelnames]
+    missing = [name for name in names if name not in channel_names]
     if missing:
-        raise OSError(f"shadecut: {path} has no channel {missing[0]} (it has {list(spec.channelnames)})")
-    return pixels[..., [list(spec.channelnames).index(name) for name in names]]
+        raise OSError(f"shadecut: {path} has no channel {missing[0]} (it has {channel_names})")
+    return pixels[..., [channel_names.index(name) for name in names]]
 
 
 def _write_mask(path: Path, mask: np.ndarray) -> None:

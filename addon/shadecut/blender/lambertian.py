@@ -28,7 +28,6 @@ from typing import Optional, Sequence, Union
 
 import bpy
 import numpy as np
-import OpenImageIO as oiio
 from mathutils import Matrix, Vector
 
 from .. import dataset
@@ -213,17 +212,12 @@ def _own_colour_material(material: Optional[bpy.types.Material]):
 
 def _read_passes(path: Path) -> dict:
     """The multilayer EXR Cycles wrote, as {"Combined.R": (H, W) array, ...}, row 0 at the top."""
-    image = oiio.ImageInput.open(str(path))
-    if image is None:
-        raise RenderError(f"Cycles wrote no readable image: {oiio.geterror()}")
     try:
-        spec = image.spec()
-        pixels = image.read_image(oiio.FLOAT)
-    finally:
-        image.close()
-    pixels = np.asarray(pixels, dtype=np.float64).reshape(spec.height, spec.width, -1)
+        pixels, names = dataset.read_image_channels(path)
+    except OSError as error:
+        raise RenderError(f"Cycles wrote no readable image: {error}") from error
     # Channels are named "<view layer>.<pass>.<channel>"; drop the view layer.
-    return {name.split(".", 1)[1]: pixels[..., i] for i, name in enumerate(spec.channelnames)}
+    return {name.split(".", 1)[1]: pixels[..., i] for i, name in enumerate(names)}
 
 
 def _quantize(image: np.ndarray, bits: int) -> np.ndarray:
