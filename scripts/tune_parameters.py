@@ -4,10 +4,13 @@ Training surfaces: a sphere, a bowl, Gaussian bumps and dents in a layout of the
 crates, each under its own light. None of them is a test surface (the tests use other lights,
 another bump layout, and Mozart), so the defaults are not fitted to what the tests measure.
 For each method, every combination of its parameters on the grid below is scored by the mean, over
-the training surfaces, of the mean angular error on the mask eroded by 2 pixels; the best wins.
+the training surfaces rendered at every size of --sizes, of the mean angular error on the mask eroded
+by 2 pixels; the best wins. Scoring at more than one resolution keeps the choice from fitting one
+pixel scale; the mean per size is printed beside the score to show how far apart they are.
 
-Run: PYTHONPATH=addon /usr/bin/python3 scripts/tune_parameters.py [--methods NAME ...]
-(every method of the grid by default; --methods tunes only those named, by the same procedure).
+Run: PYTHONPATH=addon /usr/bin/python3 scripts/tune_parameters.py [--methods NAME ...] [--sizes N ...]
+(every method of the grid, at 128 and 256 pixels, by default; --methods tunes only those named, by
+the same procedure).
 """
 
 from __future__ import annotations
@@ -36,25 +39,25 @@ SPARSE_TRAINING_BUMPS = (
 )
 
 
-def training_surfaces() -> dict[str, synthetic.Scene]:
+def training_surfaces(size: int) -> dict[str, synthetic.Scene]:
     return {
-        "sphere": synthetic.sphere((0.5, 0.5, 1.0), radius_fraction=0.4),
-        "bowl": synthetic.sphere((-0.6, -0.4, 1.0), radius_fraction=0.4, bowl=True),
-        "bumps": synthetic.bumps((0.8, -0.5, 1.0), features=TRAINING_BUMPS),
-        "egg_crate": synthetic.egg_crate((1.0, 0.4, 1.0)),
-        "egg_crate_wide": synthetic.egg_crate((-0.5, 0.9, 1.0), periods=1.5, amplitude=0.08),
-        "bumps_sparse": synthetic.bumps((-0.7, 0.3, 1.0), features=SPARSE_TRAINING_BUMPS),
+        "sphere": synthetic.sphere((0.5, 0.5, 1.0), size, radius_fraction=0.4),
+        "bowl": synthetic.sphere((-0.6, -0.4, 1.0), size, radius_fraction=0.4, bowl=True),
+        "bumps": synthetic.bumps((0.8, -0.5, 1.0), size, features=TRAINING_BUMPS),
+        "egg_crate": synthetic.egg_crate((1.0, 0.4, 1.0), size),
+        "egg_crate_wide": synthetic.egg_crate((-0.5, 0.9, 1.0), size, periods=1.5, amplitude=0.08),
+        "bumps_sparse": synthetic.bumps((-0.7, 0.3, 1.0), size, features=SPARSE_TRAINING_BUMPS),
     }
 
 
 GRID = {
     "graphcut": {
         "data_weight": [0.2, 0.5, 1.0, 2.0],
-        "min_gradient": [1e-3, 3e-3, 1e-2],
+        "min_curvature": [0.3, 1.0, 2.0],
         "undefined_weight": [0.0, 0.05, 0.2, 0.5],
     },
-    "graphcut_two": {"min_gradient": [1e-3, 3e-3, 1e-2], "undefined_weight": [0.0, 0.05, 0.2, 0.5]},
-    "lee_rosenfeld": {"min_gradient": [1e-3, 3e-3, 1e-2]},
+    "graphcut_two": {"min_curvature": [0.3, 1.0, 2.0], "undefined_weight": [0.0, 0.05, 0.2, 0.5]},
+    "lee_rosenfeld": {"min_curvature": [0.3, 1.0, 2.0]},
     "brooks_horn": {"smoothness": [0.2, 0.3, 0.5, 1.0, 3.0], "iterations": [500, 2000, 8000], "tolerance": [0.0, 1e-5, 1e-4]},
     "tsai_shah": {"iterations": [1, 2, 3, 5, 10, 20, 50, 100]},
 }
@@ -63,25 +66,30 @@ GRID = {
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--methods", nargs="+", choices=list(GRID), default=list(GRID))
-    methods = parser.parse_args().methods
-    surfaces = training_surfaces()
-    for method in methods:
+    parser.add_argument("--sizes", nargs="+", type=int, default=[128, 256],
+                        help="image sizes (pixels) at which every training surface is rendered")
+    args = parser.parse_args()
+    surfaces = {size: training_surfaces(size) for size in args.sizes}
+    for method in args.methods:
         grid = GRID[method]
         names = list(grid)
         scored = []
         for values in itertools.product(*grid.values()):
             params = dict(zip(names, values))
-            errors = [
-                scene.mean_error(shadecut.reconstruct(scene.image, scene.light, scene.mask, albedo=scene.albedo,
-                                                      method=method, **params).normals)
-                for scene in surfaces.values()
-            ]
-            scored.append((float(np.mean(errors)), params, errors))
+            errors = {
+                size: [scene.mean_error(shadecut.reconstruct(scene.image, scene.light, scene.mask, albedo=scene.albedo,
+                                                             method=method, **params).normals)
+                       for scene in scenes.values()]
+                for size, scenes in surfaces.items()
+            }
+            scored.append((float(np.mean(list(errors.values()))), params, errors))
         scored.sort(key=lambda item: item[0])
-        print(f"\n{method}: the five best of {len(scored)} settings (mean error in degrees; "
-              f"per surface: {', '.join(surfaces)})")
+        print(f"\n{method}: the five best of {len(scored)} settings (mean error in degrees over every size; "
+              f"then per size, the mean and per surface: {', '.join(surfaces[args.sizes[0]])})")
         for score, params, errors in scored[:5]:
-            print(f"  {score:6.2f}  {params}  [{', '.join(f'{e:.2f}' for e in errors)}]")
+            per_size = "; ".join(f"{size} px {np.mean(e):.2f} [{', '.join(f'{v:.2f}' for v in e)}]"
+                                 for size, e in errors.items())
+            print(f"  {score:6.2f}  {params}  {per_size}")
         print(f"  chosen for {method}: {scored[0][1]}")
     return 0
 

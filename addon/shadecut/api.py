@@ -84,7 +84,7 @@ def reconstruct(
     iterations: Optional[int] = None,
     smoothness: Optional[float] = None,
     light_method: str = "zheng_chellappa",
-    min_gradient: Optional[float] = None,
+    min_curvature: Optional[float] = None,
     refine: bool = True,
     max_slope: float = 10.0,
     fill_shadows: bool = True,
@@ -105,9 +105,11 @@ def reconstruct(
         method: one of :data:`METHODS`: "graphcut" (eq. 15), "graphcut_two" (eq. 10),
             "lee_rosenfeld" (local, convex), "brooks_horn" (variational), "tsai_shah" (linear, depth).
         labels: K discrete tilts, >= 4.
-        data_weight: lambda of eq. (15) (graphcut only).
-        undefined_weight: pull toward tilt pi where the local tilt is undefined; None = the method's
-            tuned default (README, "Choosing the parameters").
+        data_weight: lambda of eq. (15) (graphcut only) for an object of 128 pixels (the square root
+            of the mask's area); for an object of L pixels the per-pixel weight is data_weight * 128 / L,
+            which keeps the balance with the pairwise term the same at every resolution.
+        undefined_weight: pull toward tilt pi where the local tilt is undefined, scaled like
+            data_weight; None = the method's tuned default (README, "Choosing the parameters").
         integrator: "poisson" (least squares on the mask) or "frankot_chellappa".
         maxflow: "grid" (ShadeCut's grid solver), "opencv" or "boost".
         max_cycles: upper bound on alpha-expansion cycles.
@@ -119,8 +121,10 @@ def reconstruct(
             None = the method's tuned default.
         smoothness: brooks_horn: weight lambda of the smoothness term; None = the tuned default.
         light_method: the estimator used when ``light`` is None, one of :data:`LIGHT_METHODS`.
-        min_gradient: |grad I| / albedo per pixel below which the local tilt is undefined; None = the
-            method's tuned default.
+        min_curvature: the local tilt is undefined where the surface reads as flat: where
+            |grad I| L / (albedo sin s), the curvature of the locally spherical patch in units of the
+            object (L = sqrt of the mask's area, s the slant), is below this; None = the method's
+            tuned default. The same at every resolution of the same surface.
         refine: keep the local step's exact tilt where the label agrees with a candidate.
         max_slope: integrator gradient clamp (depth units per pixel).
         fill_shadows: interpolate normals where the image is black (attached shadow).
@@ -131,7 +135,7 @@ def reconstruct(
     """
     result = _core.reconstruct(
         np.asarray(image), None if light is None else _vector3(light), _mask(mask), albedo, method, labels, data_weight,
-        undefined_weight, integrator, maxflow, max_cycles, tolerance, iterations, smoothness, light_method, min_gradient,
+        undefined_weight, integrator, maxflow, max_cycles, tolerance, iterations, smoothness, light_method, min_curvature,
         refine, max_slope, fill_shadows, occluding_contour, threads,
         progress,
     )

@@ -88,7 +88,7 @@ py::dict reconstruct(const FloatArray& image_array, const std::optional<std::vec
                      const std::optional<BoolArray>& mask_array, std::optional<double> albedo, const std::string& method,
                      int labels, double data_weight, std::optional<double> undefined_weight, const std::string& integrator, const std::string& maxflow,
                      int max_cycles, std::optional<double> tolerance, std::optional<int> iterations, std::optional<double> smoothness,
-                     const std::string& light_method, std::optional<double> min_gradient, bool refine, double max_slope, bool fill_shadows,
+                     const std::string& light_method, std::optional<double> min_curvature, bool refine, double max_slope, bool fill_shadows,
                      bool occluding_contour, int threads, const std::optional<py::function>& progress) {
   const ImageF image = to_image(image_array, "image");
   const std::optional<Mask> mask = to_mask(mask_array);
@@ -104,7 +104,7 @@ py::dict reconstruct(const FloatArray& image_array, const std::optional<std::vec
   options.iterations = iterations;
   options.smoothness = smoothness;
   options.light_estimator = shadecut::parse_light_estimator(light_method);
-  options.min_gradient = min_gradient;
+  options.min_curvature = min_curvature;
   options.refine = refine;
   options.max_slope = max_slope;
   options.fill_shadows = fill_shadows;
@@ -167,7 +167,7 @@ PYBIND11_MODULE(_core, m) {
   m.def("reconstruct", &reconstruct, py::arg("image"), py::arg("light"), py::arg("mask"), py::arg("albedo"),
         py::arg("method"), py::arg("labels"), py::arg("data_weight"), py::arg("undefined_weight"),
         py::arg("integrator"), py::arg("maxflow"),
-        py::arg("max_cycles"), py::arg("tolerance"), py::arg("iterations"), py::arg("smoothness"), py::arg("light_method"), py::arg("min_gradient"), py::arg("refine"), py::arg("max_slope"), py::arg("fill_shadows"), py::arg("occluding_contour"), py::arg("threads"),
+        py::arg("max_cycles"), py::arg("tolerance"), py::arg("iterations"), py::arg("smoothness"), py::arg("light_method"), py::arg("min_curvature"), py::arg("refine"), py::arg("max_slope"), py::arg("fill_shadows"), py::arg("occluding_contour"), py::arg("threads"),
         py::arg("progress"));
 
   m.attr("METHODS") = py::tuple(py::cast(shadecut::method_names()));

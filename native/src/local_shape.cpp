@@ -10,23 +10,35 @@
 
 namespace shadecut {
 
+double object_size(const Mask& mask) { return std::sqrt(double(mask.count())); }
+
 LocalShape local_shape(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
-                       double min_gradient) {
+                       double min_curvature) {
   check_image(image);
   check_mask(mask, image);
   if (!(albedo > 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
+  if (!(min_curvature >= 0.0) || !std::isfinite(min_curvature))
+    throw InvalidArgument("shadecut: min_curvature must be finite and >= 0");
   const int rows = int(image.rows()), cols = int(image.cols());
   LocalShape local{ImageF::Zero(rows, cols), ImageF::Zero(rows, cols), Mask::Constant(rows, cols, false)};
   const double cos_ls = std::cos(light.slant), cos_lt = std::cos(light.tilt), sin_lt = std::sin(light.tilt);
+  const double size = object_size(mask);
 
 #pragma omp parallel for schedule(static)
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
       if (!mask(r, c)) continue;
-      local.slant(r, c) = float(std::acos(std::clamp(double(image(r, c)) / albedo, 0.0, 1.0)));
+      const double shading = std::clamp(double(image(r, c)) / albedo, 0.0, 1.0);
+      local.slant(r, c) = float(std::acos(shading));
       const detail::MaskedGradient g = detail::masked_gradient(image, mask, r, c);
       const double ix = g.dx, iy = g.dy;
-      if (!g.has_x || !g.has_y || std::hypot(ix, iy) < min_gradient * albedo) continue;
+      // A sphere of radius R pixels shades its pixels of slant s with |grad I| ~ albedo sin(s) / R, so
+      // |grad I| size / (albedo sin s) is the object's size over the radius of the sphere this pixel
+      // would belong to: the curvature the local model reads, in units of the object, the same at any
+      // resolution. Below min_curvature the patch is as good as flat and its shading says nothing
+      // about the tilt. Zero gradient (a plane, the brightest point) never defines a tilt.
+      const double gradient = std::hypot(ix, iy), sin_s = std::sqrt(1.0 - shading * shading);
+      if (!g.has_x || !g.has_y || !(gradient > 0.0) || gradient * size < min_curvature * albedo * sin_s) continue;
       local.tilt(r, c) = float(std::atan2(iy * cos_lt - ix * sin_lt, cos_ls * (ix * cos_lt + iy * sin_lt)));
       local.tilt_defined(r, c) = true;
     }

@@ -50,14 +50,16 @@ std::string to_string(Method method) { return method_names().at(std::size_t(meth
 
 MethodDefaults method_defaults(Method method) {
   switch (method) {
-    case Method::GraphCut: return {3e-3, 0.2, 0.0, 0, 0.0};
-    case Method::GraphCutTwo: return {1e-2, 0.05, 0.0, 0, 0.0};
-    case Method::LeeRosenfeld: return {1e-2, 0.0, 0.0, 0, 0.0};
+    case Method::GraphCut: return {1.0, 0.5, 0.0, 0, 0.0};
+    case Method::GraphCutTwo: return {2.0, 0.05, 0.0, 0, 0.0};
+    case Method::LeeRosenfeld: return {2.0, 0.0, 0.0, 0, 0.0};
     case Method::BrooksHorn: return {0.0, 0.0, 1e-5, 2000, 0.3};
     case Method::TsaiShah: return {0.0, 0.0, 0.0, 1, 0.0};
   }
   throw InvalidArgument("shadecut: unknown method");
 }
+
+double unary_scale(const Mask& mask) { return kReferenceObjectSize / object_size(mask); }
 
 double estimate_albedo(const ImageF& image, const Mask& mask) {
   check_image(image);
@@ -141,7 +143,7 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   } else {
     report(options.progress, 0.0, 0.05, 0.0, "local");
     const LocalShape local =
-        local_shape(image, mask, frame, result.albedo, options.min_gradient.value_or(defaults.min_gradient));
+        local_shape(image, mask, frame, result.albedo, options.min_curvature.value_or(defaults.min_curvature));
     stats.seconds["local"] = seconds_since(stage_start);
     if (options.method == Method::LeeRosenfeld) {
       result.normals = convex_normals(local, frame, mask);
@@ -150,8 +152,9 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
       stage_start = Clock::now();
       TiltEnergyParams params;
       params.labels = options.labels;
-      params.data_weight = options.data_weight;
-      params.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight);
+      const double scale = unary_scale(mask);
+      params.data_weight = options.data_weight * scale;
+      params.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight) * scale;
       params.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
       params.threads = threads;
       const TiltEnergy energy(local, frame, mask, params);

@@ -39,7 +39,7 @@ using ProgressCallback = std::function<bool(double fraction, const std::string& 
 /// Per-method defaults chosen by scripts/tune_parameters.py on training surfaces (see the README).
 /// A field a method does not use is 0.
 struct MethodDefaults {
-  double min_gradient;
+  double min_curvature;
   double undefined_weight;
   double tolerance;   ///< graphcut, graphcut_two: share of the energy; brooks_horn: mean |dn| per sweep
   int iterations;     ///< brooks_horn, tsai_shah
@@ -47,11 +47,25 @@ struct MethodDefaults {
 };
 MethodDefaults method_defaults(Method method);
 
+/// The object size (object_size in local_shape.hpp) at which data_weight and undefined_weight are
+/// the per-pixel weights of the energy.
+constexpr double kReferenceObjectSize = 128.0;
+
+/// The factor that turns data_weight and undefined_weight into per-pixel weights:
+/// kReferenceObjectSize / object_size(mask). The data term is summed over the area (object_size^2
+/// pixels) and the pairwise term along label boundaries and over tilt gradients (object_size times
+/// its per-object value), so without it doubling the resolution would double the data term against
+/// the smoothness and change the minimum; with it the energy of the same surface is the same up to
+/// one factor at every resolution.
+double unary_scale(const Mask& mask);
+
 struct ReconstructOptions {
   Method method = Method::GraphCut;
   int labels = 36;                          ///< K tilt labels
-  double data_weight = 0.2;                 ///< lambda of eq. (15), tuned (graphcut only)
-  std::optional<double> undefined_weight;   ///< TiltEnergyParams::undefined_weight; unset = method_defaults
+  /// lambda of eq. (15) for an object of kReferenceObjectSize pixels, tuned (graphcut only); see
+  /// unary_scale for other sizes.
+  double data_weight = 0.2;
+  std::optional<double> undefined_weight;   ///< TiltEnergyParams::undefined_weight at kReferenceObjectSize (unary_scale); unset = method_defaults
   Integrator integrator = Integrator::Poisson;
   MaxFlowKind maxflow = MaxFlowKind::Grid;
   int max_cycles = 20;                      ///< alpha-expansion stops earlier when a cycle gains nothing
@@ -59,7 +73,7 @@ struct ReconstructOptions {
   std::optional<int> iterations;            ///< brooks_horn, tsai_shah sweeps; unset = method_defaults
   std::optional<double> smoothness;         ///< brooks_horn lambda; unset = method_defaults
   LightEstimator light_estimator = LightEstimator::ZhengChellappa;  ///< used when no light is given
-  std::optional<double> min_gradient;       ///< |grad I| / albedo below which the local tilt is undefined; unset = method_defaults
+  std::optional<double> min_curvature;      ///< curvature in units of the object below which the local tilt is undefined (local_shape); unset = method_defaults
   bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
   double max_slope = 10.0;                  ///< gradient clamp of the integrator
   bool fill_shadows = true;                 ///< interpolate normals in attached shadows (fill_attached_shadows)
