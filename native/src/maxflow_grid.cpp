@@ -88,8 +88,11 @@ class GridMaxFlow final : public MaxFlowSolver {
       flow += augment(from, dir);
       adopt_orphans();
     }
+    write_residuals(graph);
     return flow;
   }
+
+  bool leaves_residuals() const override { return true; }
 
  private:
   // Copies the capacities into the node array and pushes the flow that needs no search: along
@@ -422,6 +425,22 @@ class GridMaxFlow final : public MaxFlowSolver {
   void make_orphan(int i) {
     node_[i].parent = kOrphan;
     orphans_.push_back(i);
+  }
+
+  void write_residuals(GridGraph& graph) const {
+    const int cols = graph.cols;
+    const int n = graph.size();
+    for (int i = 0; i < n; ++i) {
+      const Node& v = node_[i];
+      graph.source_cap[std::size_t(i)] = std::max(0.0f, v.terminal);
+      graph.sink_cap[std::size_t(i)] = std::max(0.0f, -v.terminal);
+      // The right neighbour of a node in the last column is the first of the next row, whose left
+      // arc is zero; below the last row lies the padding.
+      graph.right_cap[std::size_t(i)] = v.cap[kRight];
+      graph.right_rev_cap[std::size_t(i)] = node_[i + 1].cap[kLeft];
+      graph.down_cap[std::size_t(i)] = v.cap[kDown];
+      graph.down_rev_cap[std::size_t(i)] = node_[i + cols].cap[kUp];
+    }
   }
 
   // Re-attaches each orphan to a neighbour of its tree whose own path still reaches the terminal,

@@ -207,6 +207,84 @@ TEST(MaxFlow, RandomGridsAgreeWithBoost) {
   }
 }
 
+// The nodes that can reach the sink through arcs of positive capacity.
+std::vector<std::uint8_t> reaching_the_sink(const GridGraph& g) {
+  std::vector<std::uint8_t> reached(std::size_t(g.size()), 0);
+  std::vector<int> queue;
+  for (int i = 0; i < g.size(); ++i)
+    if (g.sink_cap[i] > 0.0f) reached[i] = 1, queue.push_back(i);
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    const int v = queue[k], r = v / g.cols, c = v % g.cols;
+    const auto visit = [&](int u, float capacity_into_v) {
+      if (!reached[u] && capacity_into_v > 0.0f) reached[u] = 1, queue.push_back(u);
+    };
+    if (c > 0) visit(v - 1, g.right_cap[v - 1]);
+    if (c + 1 < g.cols) visit(v + 1, g.right_rev_cap[v]);
+    if (r > 0) visit(v - g.cols, g.down_cap[v - g.cols]);
+    if (r + 1 < g.rows) visit(v + g.cols, g.down_rev_cap[v]);
+  }
+  return reached;
+}
+
+// The contract alpha-expansion relies on to keep flows between moves: the graph is left holding the
+// residual capacities of a maximum flow (a flow: each arc pair keeps its total, each node conserves)
+// and the sink side is exactly what can still reach the sink, so solving the residual graph again
+// pushes nothing and finds the same cut.
+TEST(MaxFlow, GridLeavesTheResidualsOfAMaximumFlow) {
+  const auto solver = make_maxflow_solver(MaxFlowKind::Grid);
+  ASSERT_TRUE(solver->leaves_residuals());
+  std::mt19937 rng(777);
+  for (int trial = 0; trial < 200; ++trial) {
+    RandomGraphSpec spec;
+    std::uniform_int_distribution<int> side(1, 30);
+    spec.rows = side(rng);
+    spec.cols = side(rng);
+    spec.zero_fraction = trial % 3 == 0 ? 0.0 : 0.4;
+    spec.isolated_fraction = trial % 2 == 0 ? 0.0 : 0.15;
+    spec.integer_caps = trial % 4 >= 2;
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + std::to_string(spec.rows) + " x " +
+                 std::to_string(spec.cols));
+    const GridGraph g = random_graph(spec, rng);
+    GridGraph residual = g;
+    std::vector<std::uint8_t> sink_side;
+    const double flow = solver->solve(residual, sink_side);
+    EXPECT_NEAR(flow, solve_fresh(MaxFlowKind::Boost, g).flow, tolerance(flow));
+    EXPECT_EQ(sink_side, reaching_the_sink(residual));
+
+    std::vector<double> net_out(std::size_t(g.size()), 0.0);
+    for (int r = 0; r < g.rows; ++r) {
+      for (int c = 0; c < g.cols; ++c) {
+        const int i = r * g.cols + c;
+        for (const auto* v : {&residual.source_cap, &residual.sink_cap, &residual.right_cap, &residual.right_rev_cap,
+                              &residual.down_cap, &residual.down_rev_cap}) {
+          ASSERT_GE((*v)[i], 0.0f);
+        }
+        const auto arc_pair = [&](int j, float forward, float reverse, float residual_forward, float residual_reverse) {
+          EXPECT_NEAR(residual_forward + residual_reverse, forward + reverse, 1e-4 * (1.0 + forward + reverse));
+          const double pushed = double(forward) - residual_forward;
+          net_out[std::size_t(i)] += pushed;
+          net_out[std::size_t(j)] -= pushed;
+        };
+        if (c + 1 < g.cols)
+          arc_pair(i + 1, g.right_cap[i], g.right_rev_cap[i], residual.right_cap[i], residual.right_rev_cap[i]);
+        if (r + 1 < g.rows)
+          arc_pair(i + g.cols, g.down_cap[i], g.down_rev_cap[i], residual.down_cap[i], residual.down_rev_cap[i]);
+      }
+    }
+    for (int i = 0; i < g.size(); ++i) {
+      const double from_terminals = (double(g.source_cap[i]) - g.sink_cap[i]) -
+                                    (double(residual.source_cap[i]) - residual.sink_cap[i]);
+      EXPECT_NEAR(from_terminals, net_out[std::size_t(i)], 1e-3) << "node " << i;
+    }
+
+    GridGraph again = residual;
+    std::vector<std::uint8_t> sink_side_again;
+    EXPECT_NEAR(solver->solve(again, sink_side_again), 0.0, tolerance(flow));
+    EXPECT_EQ(sink_side_again, sink_side);
+    if (HasFailure()) return;
+  }
+}
+
 // Like an expansion move: most nodes strongly prefer one side, the rest are undecided, and some are
 // background. Both orientations, since the solver treats the two trees differently when it starts.
 TEST(MaxFlow, ExpansionLikeGridsAgreeWithBoost) {

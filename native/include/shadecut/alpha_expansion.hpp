@@ -14,7 +14,8 @@ struct AlphaExpansionStats {
   int cycles = 0;                        ///< full cycles over the labels
   int moves = 0;                         ///< expansion moves solved (labels with no candidate pixel are skipped)
   int accepted_moves = 0;                ///< moves that lowered the energy
-  double maxflow_seconds = 0.0;          ///< time inside MaxFlowSolver::solve
+  int repaired_moves = 0;                ///< moves solved by finishing the label's kept flow, without a full cut
+  double maxflow_seconds = 0.0;          ///< time inside MaxFlowSolver::solve and the sparse repairs of kept flows
 };
 
 /// Called after every move with the fraction of the cycle budget done; returning false cancels
@@ -25,7 +26,9 @@ using MoveCallback = std::function<bool(double fraction)>;
 /// no more (or `max_cycles` cycles, or a cycle lowers it by no more than `tolerance` times itself). Each move is a minimum cut over the pixels where the label is
 /// allowed and not already taken (Kolmogorov & Zabih's construction; the pairwise term is a metric, so
 /// every move is graph-representable). A move is kept only if it lowers the energy, so the energy never
-/// rises.
+/// rises. A solver that leaves_residuals() lets every label keep its last maximum flow: the label's
+/// next move starts from it, and when few pixels changed since, it is finished by a search around
+/// them instead of a full cut (the same minimum cut, found in a fraction of the time).
 ///
 /// @param[in] energy        the energy.
 /// @param[in,out] labelling one allowed label per masked pixel (e.g. energy.convex_labelling()).

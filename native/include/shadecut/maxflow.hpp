@@ -35,6 +35,11 @@ class MaxFlowSolver {
   ///                       minimum cut, 0 on the source side (isolated nodes: 0).
   /// @return the maximum flow value, i.e. the capacity of the minimum cut.
   virtual double solve(GridGraph& graph, std::vector<std::uint8_t>& sink_side) = 0;
+
+  /// True when solve() always leaves exactly the residual capacities of a maximum flow in `graph`
+  /// and reports as the sink side exactly the nodes that can still reach the sink through them. A
+  /// caller can then keep the flow and start a later, slightly different cut from it.
+  virtual bool leaves_residuals() const { return false; }
 };
 
 /// Creates a solver of the given kind.
