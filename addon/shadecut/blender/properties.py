@@ -21,8 +21,9 @@ class ShadeCutSettings(bpy.types.PropertyGroup):
         description="The shaded image; empty = the image shown in the Image Editor",
     )
     max_resolution: bpy.props.IntProperty(
-        name="Max size", default=0, min=0, soft_max=4096, subtype="PIXEL",
-        description="Downsample so that neither side exceeds this many pixels, for quick previews (0 = full size)",
+        name="Max size", default=512, min=0, soft_max=4096, subtype="PIXEL",
+        description="Downsample so that neither side exceeds this many pixels (0 = full size). graphcut takes "
+                    "seconds at 512 px and about a minute at 1024 px on two cores",
     )
 
     light_source: bpy.props.EnumProperty(
