@@ -123,7 +123,8 @@ def _json_ready(value):
     return value
 
 
-def _unit_light(light) -> np.ndarray:
+def unit_light(light) -> np.ndarray:
+    """``light`` as a unit 3-vector; ValueError for anything else (wrong length, not finite, zero)."""
     vector = np.asarray(light, dtype=np.float64).reshape(-1)
     if vector.shape != (3,) or not np.all(np.isfinite(vector)):
         raise ValueError(f"shadecut: the light must be 3 finite numbers; got {light!r}")
@@ -169,7 +170,7 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
         format=FORMAT,
         version=VERSION,
         id=meta.get("id", folder.name),
-        light=_unit_light(light).tolist(),
+        light=unit_light(light).tolist(),
         albedo=float(albedo),
         resolution=[shape[1], shape[0]],
         conventions=CONVENTIONS,
@@ -234,7 +235,7 @@ def load_sample(folder) -> Sample:
         normals=np.where(mask[..., None], normals, 0).astype(np.float32),
         depth=depth,
         mask=mask,
-        light=_unit_light(meta["light"]),
+        light=unit_light(meta["light"]),
         albedo=float(meta["albedo"]),
         meta=meta,
         shadow_mask=_read_channels(shadow_path)[..., 0] > 0.5 if shadow_path.is_file() else None,

@@ -211,7 +211,7 @@ def test_perspective_scene_camera_and_sun_object():
     assert core_agreement(render) < 0.005
     inside = render.mask
     assert np.all(render.depth[inside] < -6.5) and np.all(render.depth[inside] > -8)
-    with pytest.raises(lambertian.RenderError, match="not a Sun"):
+    with pytest.raises(lambertian.RenderError, match="use a Sun"):
         bpy.ops.object.light_add(type="POINT")
         lambertian.render_lambertian([sphere], light=bpy.context.active_object, resolution=(16, 16))
 

@@ -31,6 +31,7 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 from .. import dataset
+from . import frames
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])  # Rec. 709, Blender's scene-linear primaries
 # The camera of the fitted view looks along world +Y with world +Z up (Blender's "front" view), so
@@ -83,19 +84,14 @@ def mesh_objects(context, selected_only: bool = True) -> list:
 def camera_frame_light(light, camera_rotation: Matrix) -> np.ndarray:
     """The unit light vector in the camera frame from a camera-frame direction or a Sun object."""
     if isinstance(light, bpy.types.Object):
-        if light.type != "LIGHT" or light.data.type != "SUN":
-            raise RenderError(f"the light object '{light.name}' is not a Sun light")
-        # A sun shines along its local -Z, so the direction toward it is its +Z axis.
-        toward = light.matrix_world.to_3x3().normalized() @ Vector((0.0, 0.0, 1.0))
-        vector = np.array(camera_rotation.transposed() @ toward, dtype=np.float64)
-    else:
-        vector = np.asarray(light, dtype=np.float64).reshape(-1)
-        if vector.shape != (3,) or not np.all(np.isfinite(vector)):
-            raise RenderError(f"the light direction must be 3 finite numbers; got {light!r}")
-    length = np.linalg.norm(vector)
-    if length == 0:
-        raise RenderError("the light direction is zero")
-    vector /= length
+        try:
+            light = camera_rotation.transposed() @ frames.sun_direction_world(light)
+        except frames.FrameError as error:
+            raise RenderError(str(error)) from error
+    try:
+        vector = dataset.unit_light(light)
+    except ValueError as error:
+        raise RenderError(str(error)) from error
     if vector[2] <= 1e-6:
         raise RenderError(f"the light ({', '.join(f'{v:.3f}' for v in vector)} in the camera frame) is at or "
                           "below the horizon: it must come from the viewer's side (z > 0)")
