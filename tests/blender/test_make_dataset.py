@@ -47,8 +47,9 @@ def test_two_shapes_two_lights(make_dataset, tmp_path, capsys):
     for entry in entries:
         first = dataset.load_sample(tmp_path / "a" / entry["folder"])
         second = dataset.load_sample(tmp_path / "b" / entry["folder"])
-        # Equal up to float rounding: Cycles' threads may order a sum differently (1e-7 relative).
-        np.testing.assert_allclose(first.image, second.image, rtol=1e-6, atol=1e-7)
+        # Equal up to float rounding: Cycles' threads may order a sum differently, which moves a few
+        # pixels by up to ~1e-6 (seen: 1.07e-6 in 1 of 4096); another seed moves them by ~the noise, 5e-3.
+        np.testing.assert_allclose(first.image, second.image, rtol=0, atol=1e-5)
         np.testing.assert_allclose(first.normals, second.normals, atol=1e-6)
         np.testing.assert_array_equal(first.mask, second.mask)
     assert run(make_dataset, tmp_path / "c", "--seed", "4") == 0
