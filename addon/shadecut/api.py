@@ -80,6 +80,7 @@ def reconstruct(
     integrator: str = "poisson",
     maxflow: str = "grid",
     max_cycles: int = 20,
+    coarse_to_fine_band: int = 1,
     tolerance: Optional[float] = None,
     iterations: Optional[int] = None,
     smoothness: Optional[float] = None,
@@ -113,6 +114,10 @@ def reconstruct(
         integrator: "poisson" (least squares on the mask) or "frankot_chellappa".
         maxflow: "grid" (ShadeCut's grid solver), "opencv" or "boost".
         max_cycles: upper bound on alpha-expansion cycles.
+        coarse_to_fine_band: graphcut, graphcut_two: when >= 0 and the object is at least 192 pixels
+            across, solve at half resolution first (recursively) and keep at each pixel only the
+            labels within this many steps of its coarse label; < 0 = every label at full resolution
+            (the exact alpha-expansion). ``stats["levels"]`` counts the resolutions solved.
         tolerance: graphcut, graphcut_two: also stop when a cycle lowers the energy by no more than
             this share of it, 0 = only when a cycle lowers it no more (the paper's criterion);
             brooks_horn: stop when a sweep moves the normals by no more than this (mean |dn|).
@@ -135,7 +140,7 @@ def reconstruct(
     """
     result = _core.reconstruct(
         np.asarray(image), None if light is None else _vector3(light), _mask(mask), albedo, method, labels, data_weight,
-        undefined_weight, integrator, maxflow, max_cycles, tolerance, iterations, smoothness, light_method, min_curvature,
+        undefined_weight, integrator, maxflow, max_cycles, coarse_to_fine_band, tolerance, iterations, smoothness, light_method, min_curvature,
         refine, max_slope, fill_shadows, occluding_contour, threads,
         progress,
     )

@@ -49,12 +49,13 @@ const BenchScene& scene_of_size(int size) {
   return cache.emplace(size, std::move(scene)).first->second;
 }
 
-void BM_Reconstruct(benchmark::State& state, Method method, Integrator integrator) {
+void BM_Reconstruct(benchmark::State& state, Method method, Integrator integrator, int band) {
   const int size = int(state.range(0));
   const BenchScene& scene = scene_of_size(size);
   ReconstructOptions options;
   options.method = method;
   options.integrator = integrator;
+  options.coarse_to_fine_band = band;
   std::map<std::string, double> stage_seconds;
   int iterations = 0;
   for (auto _ : state) {
@@ -75,10 +76,13 @@ void register_reconstruct_benchmarks() {
     Method method;
     Integrator integrator;
     std::initializer_list<int> sizes;
+    int band = -1;
   };
   const Case cases[] = {
       {"graphcut/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"graphcut/poisson", Method::GraphCut, Integrator::Poisson, {256, 512}},
+      {"graphcut_band1/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, 1},
+      {"graphcut_band2/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, 2},
       {"graphcut_two/frankot_chellappa", Method::GraphCutTwo, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"lee_rosenfeld/frankot_chellappa", Method::LeeRosenfeld, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"brooks_horn/frankot_chellappa", Method::BrooksHorn, Integrator::FrankotChellappa, {256, 512}},
@@ -86,7 +90,7 @@ void register_reconstruct_benchmarks() {
   };
   for (const Case& c : cases) {
     auto* bench = benchmark::RegisterBenchmark((std::string("BM_Reconstruct/") + c.name).c_str(), BM_Reconstruct,
-                                               c.method, c.integrator);
+                                               c.method, c.integrator, c.band);
     for (int size : c.sizes) bench->Arg(size);
     bench->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
   }

@@ -87,7 +87,7 @@ Mask mask_or_all(const std::optional<Mask>& mask, Eigen::Index rows, Eigen::Inde
 py::dict reconstruct(const FloatArray& image_array, const std::optional<std::vector<double>>& light,
                      const std::optional<BoolArray>& mask_array, std::optional<double> albedo, const std::string& method,
                      int labels, double data_weight, std::optional<double> undefined_weight, const std::string& integrator, const std::string& maxflow,
-                     int max_cycles, std::optional<double> tolerance, std::optional<int> iterations, std::optional<double> smoothness,
+                     int max_cycles, int coarse_to_fine_band, std::optional<double> tolerance, std::optional<int> iterations, std::optional<double> smoothness,
                      const std::string& light_method, std::optional<double> min_curvature, bool refine, double max_slope, bool fill_shadows,
                      bool occluding_contour, int threads, const std::optional<py::function>& progress) {
   const ImageF image = to_image(image_array, "image");
@@ -100,6 +100,7 @@ py::dict reconstruct(const FloatArray& image_array, const std::optional<std::vec
   options.integrator = shadecut::parse_integrator(integrator);
   options.maxflow = shadecut::parse_maxflow_kind(maxflow);
   options.max_cycles = max_cycles;
+  options.coarse_to_fine_band = coarse_to_fine_band;
   options.tolerance = tolerance;
   options.iterations = iterations;
   options.smoothness = smoothness;
@@ -132,6 +133,7 @@ py::dict reconstruct(const FloatArray& image_array, const std::optional<std::vec
   stats["light_estimated"] = result.stats.light_estimated;
   if (result.stats.light_estimated) stats["light_method"] = shadecut::to_string(options.light_estimator);
   stats["moves"] = result.stats.moves;
+  stats["levels"] = result.stats.levels;
   stats["accepted_moves"] = result.stats.accepted_moves;
   stats["maxflow_seconds"] = result.stats.maxflow_seconds;
   stats["allowed_label_fraction"] = result.stats.allowed_label_fraction;
@@ -167,7 +169,7 @@ PYBIND11_MODULE(_core, m) {
   m.def("reconstruct", &reconstruct, py::arg("image"), py::arg("light"), py::arg("mask"), py::arg("albedo"),
         py::arg("method"), py::arg("labels"), py::arg("data_weight"), py::arg("undefined_weight"),
         py::arg("integrator"), py::arg("maxflow"),
-        py::arg("max_cycles"), py::arg("tolerance"), py::arg("iterations"), py::arg("smoothness"), py::arg("light_method"), py::arg("min_curvature"), py::arg("refine"), py::arg("max_slope"), py::arg("fill_shadows"), py::arg("occluding_contour"), py::arg("threads"),
+        py::arg("max_cycles"), py::arg("coarse_to_fine_band"), py::arg("tolerance"), py::arg("iterations"), py::arg("smoothness"), py::arg("light_method"), py::arg("min_curvature"), py::arg("refine"), py::arg("max_slope"), py::arg("fill_shadows"), py::arg("occluding_contour"), py::arg("threads"),
         py::arg("progress"));
 
   m.attr("METHODS") = py::tuple(py::cast(shadecut::method_names()));

@@ -473,14 +473,32 @@ AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& 
       terms.set_alpha(alpha);
       KeptFlow* flow = kept[std::size_t(alpha)].get();
       bool solved = false;
-      if (!nothing_new && flow && flow->maximal && change_log.size() - flow->log_position <= repair_limit) {
-        if (!repair) repair = std::make_unique<SparseRepair>(energy.rows(), energy.cols());
+      // A label's first move starts from a zero flow, which is maximal for the empty graph before
+      // every variable pixel "changed"; where those are few (coarse to fine keeps most labels out of
+      // most pixels) the search around them solves it without a full graph.
+      const bool first_visit = warm && !flow;
+      if (!nothing_new && first_visit) {
+        touched.clear();
+        for (int p = 0; p < n; ++p)
+          if (terms.variable(p)) touched.push_back(p);
+        if (touched.size() <= repair_limit) {
+          kept[std::size_t(alpha)] = std::make_unique<KeptFlow>();
+          flow = kept[std::size_t(alpha)].get();
+          flow->right.assign(pixels, 0.0f);
+          flow->down.assign(pixels, 0.0f);
+          flow->maximal = true;
+          flow->log_position = change_log.size();
+        }
+      } else if (!nothing_new && flow && flow->maximal && change_log.size() - flow->log_position <= repair_limit) {
         ++seen_round;
         touched.clear();
         for (std::size_t k = flow->log_position; k < change_log.size(); ++k) {
           const int p = change_log[k];
           if (seen[std::size_t(p)] != seen_round) seen[std::size_t(p)] = seen_round, touched.push_back(p);
         }
+      }
+      if (!nothing_new && flow && flow->maximal && (first_visit || change_log.size() - flow->log_position <= repair_limit)) {
+        if (!repair) repair = std::make_unique<SparseRepair>(energy.rows(), energy.cols());
         const auto start = std::chrono::steady_clock::now();
         solved = repair->run(terms, *flow, touched, repair_budget, changed);
         stats.maxflow_seconds += seconds_since(start);

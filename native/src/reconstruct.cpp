@@ -1,8 +1,7 @@
 #include <shadecut/reconstruct.hpp>
 
-#include <shadecut/alpha_expansion.hpp>
 #include <shadecut/brooks_horn.hpp>
-#include <shadecut/convexity_cut.hpp>
+#include <shadecut/global_step.hpp>
 #include <shadecut/errors.hpp>
 #include <shadecut/light.hpp>
 #include <shadecut/local_shape.hpp>
@@ -140,44 +139,39 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
     stats.seconds["tsai_shah"] = seconds_since(stage_start);
     stats.iterations = solved.iterations;
     result.normals = normals_from_depth(solved.depth, mask);
-  } else {
-    report(options.progress, 0.0, 0.05, 0.0, "local");
+  } else if (options.method == Method::LeeRosenfeld) {
+    report(options.progress, 0.0, 0.9, 0.0, "local");
     const LocalShape local =
         local_shape(image, mask, frame, result.albedo, options.min_curvature.value_or(defaults.min_curvature));
     stats.seconds["local"] = seconds_since(stage_start);
-    if (options.method == Method::LeeRosenfeld) {
-      result.normals = convex_normals(local, frame, mask);
-    } else {
-      report(options.progress, 0.05, 0.1, 0.0, "energy");
-      stage_start = Clock::now();
-      TiltEnergyParams params;
-      params.labels = options.labels;
-      const double scale = unary_scale(mask);
-      params.data_weight = options.data_weight * scale;
-      params.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight) * scale;
-      params.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
-      params.threads = threads;
-      const TiltEnergy energy(local, frame, mask, params);
-      std::vector<int> labelling = energy.convex_labelling();
-      stats.seconds["energy"] = seconds_since(stage_start);
-      stats.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * options.labels);
-
-      stage_start = Clock::now();
-      auto solver = make_maxflow_solver(options.maxflow);
-      convexity_cut(energy, local, labelling, *solver);
-      const AlphaExpansionStats expansion =
-          alpha_expansion(energy, labelling, *solver, options.max_cycles, tolerance, [&](double fraction) {
-            return !options.progress || options.progress(0.1 + 0.8 * fraction, "graphcut");
-          });
-      stats.seconds["graphcut"] = seconds_since(stage_start);
-      stats.energy_per_cycle = expansion.energy_per_cycle;
-      stats.cycles = expansion.cycles;
-      stats.iterations = expansion.cycles;
-      stats.moves = expansion.moves;
-      stats.accepted_moves = expansion.accepted_moves;
-      stats.maxflow_seconds = expansion.maxflow_seconds;
-      result.normals = labelling_normals(labelling, energy, local, frame, options.refine);
-    }
+    result.normals = convex_normals(local, frame, mask);
+  } else {
+    GlobalStepParams params;
+    params.energy.labels = options.labels;
+    params.energy.data_weight = options.data_weight;
+    params.energy.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight);
+    params.energy.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
+    params.energy.threads = threads;
+    params.min_curvature = options.min_curvature.value_or(defaults.min_curvature);
+    params.max_cycles = options.max_cycles;
+    params.tolerance = tolerance;
+    params.band = options.coarse_to_fine_band;
+    params.refine = options.refine;
+    auto solver = make_maxflow_solver(options.maxflow);
+    GlobalStepResult solved =
+        global_step(image, mask, frame, result.albedo, params, *solver, [&](double fraction, const char* stage) {
+          return !options.progress || options.progress(0.9 * fraction, stage);
+        });
+    for (const auto& [stage, seconds] : solved.seconds) stats.seconds[stage] = seconds;
+    stats.allowed_label_fraction = solved.allowed_label_fraction;
+    stats.energy_per_cycle = solved.expansion.energy_per_cycle;
+    stats.cycles = solved.expansion.cycles;
+    stats.iterations = solved.expansion.cycles;
+    stats.moves = solved.expansion.moves;
+    stats.accepted_moves = solved.expansion.accepted_moves;
+    stats.maxflow_seconds = solved.expansion.maxflow_seconds;
+    stats.levels = solved.levels;
+    result.normals = std::move(solved.normals);
   }
 
   report(options.progress, 0.9, 1.0, 0.0, "integration");

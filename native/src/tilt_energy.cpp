@@ -83,24 +83,34 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     const double t = local.tilt.data()[p];
     if (defined) convex_tilt_[std::size_t(p)] = float(t + M_PI);
     const int concave_label = nearest_label(t), convex_label = nearest_label(t + M_PI);
+    const int centre = params.band >= 0 && params.band_centre ? (*params.band_centre)[std::size_t(p)] : -1;
+    auto in_band = [&](int k) {
+      const int d = (k - centre + k_count) % k_count;
+      return centre < 0 || std::min(d, k_count - d) <= params.band;
+    };
 
     int most_frontal = 0;
     double best_nz = -2.0;
-    for (int k = 0; k < k_count; ++k) {
-      // z of Rz(tS) Ry(sS) n'(s, theta): the rotation about z leaves it unchanged.
-      const double nz = cos_ls * std::cos(s) - sin_ls * sin_s * cos_label[std::size_t(k)];
-      if (nz > best_nz) best_nz = nz, most_frontal = k;
-      if (nz <= kMinFrontFacing) continue;
-      if (!defined) {
-        cost[k] = float(params.undefined_weight * 2.0 * sin_s * std::sin(0.5 * angle_distance(label_angle[std::size_t(k)], M_PI)));
-      } else if (params.data_term == DataTerm::Soft) {
-        const double d = std::min(angle_distance(label_angle[std::size_t(k)], t),
-                                  angle_distance(label_angle[std::size_t(k)], t + M_PI));
-        cost[k] = float(params.data_weight * 2.0 * sin_s * std::sin(0.5 * d));
-      } else if (k == concave_label || k == convex_label) {
-        cost[k] = 0.0f;
+    auto fill_costs = [&](bool band_only) {
+      for (int k = 0; k < k_count; ++k) {
+        // z of Rz(tS) Ry(sS) n'(s, theta): the rotation about z leaves it unchanged.
+        const double nz = cos_ls * std::cos(s) - sin_ls * sin_s * cos_label[std::size_t(k)];
+        if (nz > best_nz) best_nz = nz, most_frontal = k;
+        if (nz <= kMinFrontFacing || (band_only && !in_band(k))) continue;
+        if (!defined) {
+          cost[k] = float(params.undefined_weight * 2.0 * sin_s * std::sin(0.5 * angle_distance(label_angle[std::size_t(k)], M_PI)));
+        } else if (params.data_term == DataTerm::Soft) {
+          const double d = std::min(angle_distance(label_angle[std::size_t(k)], t),
+                                    angle_distance(label_angle[std::size_t(k)], t + M_PI));
+          cost[k] = float(params.data_weight * 2.0 * sin_s * std::sin(0.5 * d));
+        } else if (k == concave_label || k == convex_label) {
+          cost[k] = 0.0f;
+        }
       }
-    }
+      return std::any_of(cost, cost + k_count, [](float v) { return std::isfinite(v); });
+    };
+    // A pixel with no allowed label in its band keeps them all.
+    if (!fill_costs(centre >= 0) && centre >= 0) fill_costs(false);
     // Eq. (10) can leave no label when both candidates face away after discretization.
     if (std::none_of(cost, cost + k_count, [](float v) { return std::isfinite(v); })) cost[most_frontal] = 0.0f;
 
@@ -147,17 +157,24 @@ std::vector<int> TiltEnergy::convex_labelling() const {
   std::vector<int> labelling(std::size_t(rows_) * cols_, 0);
   for (int p = 0; p < rows_ * cols_; ++p) {
     if (!mask_.data()[p]) continue;
-    const double target = std::isnan(convex_tilt_[std::size_t(p)]) ? M_PI : double(convex_tilt_[std::size_t(p)]);
-    int chosen = -1;
-    double chosen_distance = 0.0;
-    for (int k = 0; k < labels_; ++k) {
-      if (!allowed(p, k)) continue;
-      const double d = angle_distance(label_tilt(k), target);
-      if (chosen < 0 || d < chosen_distance) chosen = k, chosen_distance = d;
-    }
-    labelling[std::size_t(p)] = chosen;
+    const float convex = convex_tilt_[std::size_t(p)];
+    labelling[std::size_t(p)] = nearest_allowed_label(p, std::isnan(convex) ? M_PI : double(convex));
   }
   return labelling;
+}
+
+int TiltEnergy::nearest_allowed_label(int pixel, double tilt) const {
+  // Labels in order of their distance to the tilt: the nearest, then alternately one step further
+  // on the tilt's side of it and on the other.
+  const double position = tilt / (2.0 * M_PI / labels_);
+  const long nearest = std::lround(position);
+  const int toward = position >= double(nearest) ? 1 : -1;
+  for (int step = 0; step < labels_; ++step) {
+    const long offset = step == 0 ? 0 : (step % 2 ? toward : -toward) * long((step + 1) / 2);
+    const int k = int((((nearest + offset) % labels_) + labels_) % labels_);
+    if (allowed(pixel, k)) return k;
+  }
+  return -1;
 }
 
 std::int64_t TiltEnergy::allowed_count() const {

@@ -41,14 +41,7 @@ def test_128_and_256_pixels_give_the_same_error(shape, method):
     assert abs(errors[256] - errors[128]) <= MARGIN
 
 
-KNOWN_512_FAILURE = pytest.mark.xfail(strict=True, reason=(
-    "Known gap (README, Results): with graphcut_two's tuned min_curvature = 2 the middle of a sphere is "
-    "undefined, and at 512 px the cut takes most of this sphere concave (33.7 deg against 8.3 at 256)."))
-
-
-@pytest.mark.parametrize("shape, method", [
-    pytest.param(shape, method, marks=KNOWN_512_FAILURE if (shape, method) == ("sphere", "graphcut_two") else ())
-    for shape in SCENES for method in METHODS])
+@pytest.mark.parametrize("shape, method", [(shape, method) for shape in SCENES for method in METHODS])
 def test_256_and_512_pixels_give_the_same_error(shape, method):
     errors = {size: error_at(shape, method, size) for size in (256, 512)}
     print(f"{shape}, light (1, 0, 1), {method}: " + ", ".join(f"{s} px {e:.2f} deg" for s, e in errors.items()))

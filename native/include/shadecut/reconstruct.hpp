@@ -69,6 +69,9 @@ struct ReconstructOptions {
   Integrator integrator = Integrator::Poisson;
   MaxFlowKind maxflow = MaxFlowKind::Grid;
   int max_cycles = 20;                      ///< alpha-expansion stops earlier when a cycle gains nothing
+  /// graphcut, graphcut_two: coarse to fine (GlobalStepParams::band): each pixel keeps the labels
+  /// within this many steps of its label at half resolution; < 0 = one level, every label.
+  int coarse_to_fine_band = 1;
   std::optional<double> tolerance;          ///< convergence tolerance (MethodDefaults::tolerance); unset = method_defaults
   std::optional<int> iterations;            ///< brooks_horn, tsai_shah sweeps; unset = method_defaults
   std::optional<double> smoothness;         ///< brooks_horn lambda; unset = method_defaults
@@ -90,8 +93,9 @@ struct ReconstructStats {
   int cycles = 0;
   int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps; 0 for lee_rosenfeld
   bool light_estimated = false;             ///< whether the light (and, without a given albedo, the albedo) was estimated
-  int moves = 0;
+  int moves = 0;                            ///< expansion moves, summed over the levels
   int accepted_moves = 0;
+  int levels = 0;                           ///< graphcut, graphcut_two: resolutions solved (coarse to fine)
   double maxflow_seconds = 0.0;
   double allowed_label_fraction = 0.0;      ///< share of (pixel, label) pairs left after pruning
   int shadow_pixels = 0;                    ///< pixels whose normals came from fill_attached_shadows

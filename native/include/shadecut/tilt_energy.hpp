@@ -33,6 +33,11 @@ struct TiltEnergyParams {
   double undefined_weight = 0.0;
   DataTerm data_term = DataTerm::Soft;
   int threads = 0;             ///< OpenMP threads for building the tables; 0 = all cores
+  /// Coarse to fine: with band >= 0, a masked pixel p with (*band_centre)[p] >= 0 (a label, one per
+  /// pixel, row-major) keeps only the labels within `band` label steps of it (circularly), unless none
+  /// of them is allowed there: then it keeps them all. Null or band < 0: every label.
+  const std::vector<int>* band_centre = nullptr;
+  int band = -1;
 };
 
 /// E(labels) = sum_p R_p(theta_p) + sum over 4-neighbours (p, q) of
@@ -71,8 +76,12 @@ class TiltEnergy {
   /// Total energy of a labelling (one label per pixel; pixels outside the mask are ignored).
   double energy(const std::vector<int>& labelling) const;
 
-  /// The Lee-Rosenfeld convex labelling: each pixel takes the allowed label nearest t + pi.
+  /// The Lee-Rosenfeld convex labelling: each pixel takes the allowed label nearest t + pi (pi where
+  /// the tilt is undefined).
   std::vector<int> convex_labelling() const;
+
+  /// The allowed label at `pixel` nearest the tilt `tilt` (radians), -1 if none.
+  int nearest_allowed_label(int pixel, double tilt) const;
 
   /// Number of (pixel, label) pairs still allowed, summed over the mask.
   std::int64_t allowed_count() const;

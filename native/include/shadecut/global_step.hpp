@@ -1,0 +1,69 @@
+// The global step of the graph-cut methods: local estimates, tilt energy, convexity cut and
+// alpha-expansion, optionally coarse to fine.
+#pragma once
+
+#include <shadecut/alpha_expansion.hpp>
+#include <shadecut/light.hpp>
+#include <shadecut/local_shape.hpp>
+#include <shadecut/maxflow.hpp>
+#include <shadecut/tilt_energy.hpp>
+#include <shadecut/types.hpp>
+
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace shadecut {
+
+struct GlobalStepParams {
+  /// The energy. data_weight and undefined_weight are those of an object of kReferenceObjectSize
+  /// pixels (reconstruct.hpp); each level scales them by its own unary_scale.
+  TiltEnergyParams energy;
+  double min_curvature = 1.0;  ///< local_shape's threshold of the undefined tilt
+  int max_cycles = 20;         ///< alpha_expansion's
+  double tolerance = 0.0;      ///< alpha_expansion's
+  /// Coarse to fine: while the object is at least twice `coarsest_object_size` pixels across
+  /// (object_size), the problem is first solved at half resolution; a pixel then only keeps the labels
+  /// within `band` label steps of its coarse label. < 0: one level, every label (the exact
+  /// alpha-expansion of the full-resolution energy).
+  int band = -1;
+  double coarsest_object_size = 48.0;
+  bool refine = true;  ///< labelling_normals' refine
+};
+
+struct GlobalStepResult {
+  NormalMap normals;               ///< the labelling's normals (labelling_normals)
+  std::vector<int> labelling;      ///< one label per pixel (meaningful inside the mask)
+  AlphaExpansionStats expansion;   ///< the finest level's; moves and maxflow_seconds summed over levels
+  double allowed_label_fraction = 0.0;  ///< share of (pixel, label) pairs left at the finest level
+  int levels = 1;                  ///< resolutions solved, the finest included
+  std::map<std::string, double> seconds;  ///< "local", "energy", "graphcut" (cuts), summed over levels
+};
+
+/// Progress of the step: `fraction` in [0, 1] of it, `stage` "local", "energy" or "graphcut".
+/// Returning false cancels (global_step then throws Cancelled).
+using StepProgress = std::function<bool(double fraction, const char* stage)>;
+
+/// Image and mask at half resolution: pixel (i, j) stands for the 2 x 2 block at (2i, 2j), lies in
+/// the mask when the whole block does and holds the block's mean intensity. An odd last row or
+/// column is dropped.
+void halve_resolution(const ImageF& image, const Mask& mask, ImageF& half_image, Mask& half_mask);
+
+/// Labels every masked pixel of `image` with a tilt label of the energy built from it (see
+/// TiltEnergy): local_shape, then for DataTerm::Soft and TwoCandidates alike the convexity cut and
+/// alpha-expansion from the convex labelling; coarse to fine when params.band >= 0 (see
+/// GlobalStepParams): the coarse labelling, upsampled, is the start and the band's centre, and the
+/// fine level skips the convexity cut (the coarse level made that choice).
+///
+/// @param[in] image     H x W linear intensity.
+/// @param[in] mask      H x W.
+/// @param[in] light     light frame.
+/// @param[in] albedo    > 0.
+/// @param[in] params    see GlobalStepParams.
+/// @param[in] solver    the max-flow solver, reused by every level.
+/// @param[in] progress  see StepProgress; may be empty.
+GlobalStepResult global_step(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                             const GlobalStepParams& params, MaxFlowSolver& solver, const StepProgress& progress = {});
+
+}  // namespace shadecut

@@ -1,0 +1,139 @@
+#include <shadecut/global_step.hpp>
+
+#include <shadecut/convexity_cut.hpp>
+#include <shadecut/errors.hpp>
+#include <shadecut/reconstruct.hpp>
+
+#include <algorithm>
+#include <chrono>
+
+namespace shadecut {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// Share of a level's progress range spent on the levels below it (they have a quarter of its pixels
+// each, and every label open to them).
+constexpr double kCoarseShare = 0.25;
+
+// Fine-resolution centres of a coarse labelling: each fine pixel takes its block's coarse label, -1
+// where the block is outside the coarse mask.
+std::vector<int> upsample_labels(const std::vector<int>& coarse, const Mask& coarse_mask, int rows, int cols) {
+  const int coarse_rows = int(coarse_mask.rows()), coarse_cols = int(coarse_mask.cols());
+  std::vector<int> centre(std::size_t(rows) * cols, -1);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const int cr = r / 2, cc = c / 2;
+      if (cr < coarse_rows && cc < coarse_cols && coarse_mask(cr, cc))
+        centre[std::size_t(r) * cols + c] = coarse[std::size_t(cr) * coarse_cols + cc];
+    }
+  }
+  return centre;
+}
+
+// The start of a fine level: the allowed label nearest the centre; the convex labelling where there
+// is no centre.
+std::vector<int> start_from_centres(const TiltEnergy& energy, const std::vector<int>& centre) {
+  std::vector<int> labelling = energy.convex_labelling();
+  for (std::size_t p = 0; p < labelling.size(); ++p) {
+    if (!energy.mask().data()[p] || centre[p] < 0) continue;
+    const int nearest = energy.nearest_allowed_label(int(p), energy.label_tilt(centre[p]));
+    if (nearest >= 0) labelling[p] = nearest;
+  }
+  return labelling;
+}
+
+// Solves one level (after the coarser ones, when there are any) into `result`, reporting progress in
+// [begin, end] of the whole step.
+void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                 const GlobalStepParams& params, MaxFlowSolver& solver, const StepProgress& progress, double begin,
+                 double end, GlobalStepResult& result) {
+  std::vector<int> centre;
+  int coarse_moves = 0, coarse_accepted = 0, coarse_repaired = 0, coarse_levels = 0;
+  double coarse_seconds = 0.0;
+  if (params.band >= 0 && object_size(mask) >= 2.0 * params.coarsest_object_size) {
+    ImageF half_image;
+    Mask half_mask;
+    halve_resolution(image, mask, half_image, half_mask);
+    if (half_mask.any()) {
+      const double split = begin + kCoarseShare * (end - begin);
+      GlobalStepResult coarse;
+      solve_level(half_image, half_mask, light, albedo, params, solver, progress, begin, split, coarse);
+      centre = upsample_labels(coarse.labelling, half_mask, int(image.rows()), int(image.cols()));
+      coarse_moves = coarse.expansion.moves;
+      coarse_accepted = coarse.expansion.accepted_moves;
+      coarse_repaired = coarse.expansion.repaired_moves;
+      coarse_seconds = coarse.expansion.maxflow_seconds;
+      coarse_levels = coarse.levels;
+      result.seconds = coarse.seconds;
+      begin = split;
+    }
+  }
+
+  auto report = [&](double fraction, const char* stage) {
+    if (progress && !progress(begin + (end - begin) * fraction, stage)) throw Cancelled();
+  };
+  report(0.0, "local");
+  auto stage_start = Clock::now();
+  const LocalShape local = local_shape(image, mask, light, albedo, params.min_curvature);
+  result.seconds["local"] += seconds_since(stage_start);
+  report(0.02, "energy");
+  stage_start = Clock::now();
+  TiltEnergyParams energy_params = params.energy;
+  const double scale = unary_scale(mask);
+  energy_params.data_weight *= scale;
+  energy_params.undefined_weight *= scale;
+  energy_params.band_centre = centre.empty() ? nullptr : &centre;
+  energy_params.band = params.band;
+  const TiltEnergy energy(local, light, mask, energy_params);
+  result.seconds["energy"] += seconds_since(stage_start);
+  report(0.05, "graphcut");
+  stage_start = Clock::now();
+  std::vector<int> labelling;
+  if (centre.empty()) {
+    labelling = energy.convex_labelling();
+    convexity_cut(energy, local, labelling, solver);
+  } else {
+    labelling = start_from_centres(energy, centre);
+  }
+  result.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * energy.labels());
+  result.expansion = alpha_expansion(energy, labelling, solver, params.max_cycles, params.tolerance,
+                                     [&](double fraction) {
+                                       return !progress || progress(begin + (end - begin) * (0.05 + 0.95 * fraction), "graphcut");
+                                     });
+  result.seconds["graphcut"] += seconds_since(stage_start);
+  result.expansion.moves += coarse_moves;
+  result.expansion.accepted_moves += coarse_accepted;
+  result.expansion.repaired_moves += coarse_repaired;
+  result.expansion.maxflow_seconds += coarse_seconds;
+  result.levels = coarse_levels + 1;
+  result.normals = labelling_normals(labelling, energy, local, light, params.refine);
+  result.labelling = std::move(labelling);
+}
+
+}  // namespace
+
+void halve_resolution(const ImageF& image, const Mask& mask, ImageF& half_image, Mask& half_mask) {
+  const Eigen::Index rows = image.rows() / 2, cols = image.cols() / 2;
+  half_image = ImageF::Zero(rows, cols);
+  half_mask = Mask::Constant(rows, cols, false);
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    for (Eigen::Index c = 0; c < cols; ++c) {
+      if (!mask.block(2 * r, 2 * c, 2, 2).all()) continue;
+      half_mask(r, c) = true;
+      half_image(r, c) = 0.25f * image.block(2 * r, 2 * c, 2, 2).sum();
+    }
+  }
+}
+
+GlobalStepResult global_step(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                             const GlobalStepParams& params, MaxFlowSolver& solver, const StepProgress& progress) {
+  GlobalStepResult result;
+  solve_level(image, mask, light, albedo, params, solver, progress, 0.0, 1.0, result);
+  return result;
+}
+
+}  // namespace shadecut
