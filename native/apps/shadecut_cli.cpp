@@ -33,6 +33,8 @@ options:
   --maxflow NAME       grid (default), opencv or boost
   --color-space NAME   auto (default), linear or srgb: how the file's values relate to intensity
   --tolerance T        stop when a cycle lowers the energy by at most T times it (default 0)
+  --band B             coarse to fine: keep the labels within B steps of the half-resolution
+                       solution's (default 1); -1 = exact alpha-expansion over every label
   --threads N          threads, 0 = all cores (default)
   --quiet              no progress
 )";
@@ -108,6 +110,8 @@ int main(int argc, char** argv) {
         color_space = value();
       } else if (arg == "--tolerance") {
         options.tolerance = parse_number(arg, value());
+      } else if (arg == "--band") {
+        options.coarse_to_fine_band = int(parse_number(arg, value()));
       } else if (arg == "--threads") {
         options.threads = int(parse_number(arg, value()));
       } else if (arg == "--quiet") {

@@ -1,5 +1,6 @@
 // Whole-call and per-stage timings of reconstruct() at 256, 512 and 1024 pixels square (the
-// comparison methods brooks_horn and tsai_shah at 256 and 512), default parameters of each method.
+// comparison methods brooks_horn and tsai_shah at 256 and 512), default parameters of each method;
+// *_exact: one level, every label (coarse_to_fine_band = -1); graphcut_band2: a band of two label steps.
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=Reconstruct --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true
@@ -76,13 +77,14 @@ void register_reconstruct_benchmarks() {
     Method method;
     Integrator integrator;
     std::initializer_list<int> sizes;
-    int band = -1;
+    int band = ReconstructOptions{}.coarse_to_fine_band;
   };
   const Case cases[] = {
       {"graphcut/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"graphcut/poisson", Method::GraphCut, Integrator::Poisson, {256, 512}},
-      {"graphcut_band1/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, 1},
+      {"graphcut_exact/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, -1},
       {"graphcut_band2/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, 2},
+      {"graphcut_two_exact/frankot_chellappa", Method::GraphCutTwo, Integrator::FrankotChellappa, {256, 512}, -1},
       {"graphcut_two/frankot_chellappa", Method::GraphCutTwo, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"lee_rosenfeld/frankot_chellappa", Method::LeeRosenfeld, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"brooks_horn/frankot_chellappa", Method::BrooksHorn, Integrator::FrankotChellappa, {256, 512}},

@@ -23,7 +23,7 @@ class ShadeCutSettings(bpy.types.PropertyGroup):
     max_resolution: bpy.props.IntProperty(
         name="Max size", default=512, min=0, soft_max=4096, subtype="PIXEL",
         description="Downsample so that neither side exceeds this many pixels (0 = full size). graphcut takes "
-                    "seconds at 512 px and about a minute at 1024 px on two cores",
+                    "about a second at 512 px and about 6 s at 1024 px on two cores",
     )
 
     light_source: bpy.props.EnumProperty(
