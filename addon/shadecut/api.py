@@ -114,7 +114,7 @@ def reconstruct(
         integrator: "poisson" (least squares on the mask) or "frankot_chellappa".
         maxflow: "grid" (ShadeCut's grid solver), "opencv" or "boost".
         max_cycles: upper bound on alpha-expansion cycles.
-        coarse_to_fine_band: graphcut, graphcut_two: when >= 0 and the object is at least 192 pixels
+        coarse_to_fine_band: graphcut, graphcut_two: when >= 0 and the object is at least 96 pixels
             across, solve at half resolution first (recursively) and keep at each pixel only the
             labels within this many steps of its coarse label; < 0 = every label at full resolution
             (the exact alpha-expansion). ``stats["levels"]`` counts the resolutions solved.
