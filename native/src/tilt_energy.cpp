@@ -5,7 +5,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -69,73 +68,100 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
   }
   const double cos_ls = std::cos(light.slant), sin_ls = std::sin(light.slant);
 
-  convex_tilt_.assign(std::size_t(n), std::numeric_limits<float>::quiet_NaN());
-  data_cost_.assign(std::size_t(n) * k_count, kProhibited);
+  // R_p(k) before dead-end elimination: +infinity where the normal faces away, or where eq. (10)
+  // allows only the candidates.
+  struct PixelTerms {
+    double sin_s = 0.0, nz_base = 0.0, nz_step = 0.0, t = 0.0;
+    bool defined = false;
+    int concave_label = 0, convex_label = 0;
+  };
+  auto pixel_terms = [&](int p) {
+    PixelTerms terms;
+    const double s = local.slant.data()[p];
+    terms.sin_s = std::sin(s);
+    // z of Rz(tS) Ry(sS) n'(s, theta) = nz_base - nz_step cos(theta): the rotation about z leaves it unchanged.
+    terms.nz_base = cos_ls * std::cos(s);
+    terms.nz_step = sin_ls * terms.sin_s;
+    terms.defined = local.tilt_defined.data()[p];
+    terms.t = local.tilt.data()[p];
+    terms.concave_label = nearest_label(terms.t);
+    terms.convex_label = nearest_label(terms.t + M_PI);
+    return terms;
+  };
+  auto label_nz = [&](const PixelTerms& terms, int k) { return terms.nz_base - terms.nz_step * cos_label[std::size_t(k)]; };
+  auto label_cost = [&](const PixelTerms& terms, int k) {
+    if (label_nz(terms, k) <= kMinFrontFacing) return kProhibited;
+    const double angle = label_angle[std::size_t(k)];
+    if (!terms.defined) return float(params.undefined_weight * 2.0 * terms.sin_s * std::sin(0.5 * angle_distance(angle, M_PI)));
+    if (params.data_term == DataTerm::Soft) {
+      const double d = std::min(angle_distance(angle, terms.t), angle_distance(angle, terms.t + M_PI));
+      return float(params.data_weight * 2.0 * terms.sin_s * std::sin(0.5 * d));
+    }
+    return k == terms.concave_label || k == terms.convex_label ? 0.0f : kProhibited;
+  };
+
+  // The windows: a pixel with a band centre keeps the band, unless no label in it is allowed; then,
+  // like every other masked pixel, it keeps all labels.
+  const int band_width = params.band >= 0 && params.band_centre ? std::min(2 * params.band + 1, k_count) : k_count;
+  window_first_.assign(std::size_t(n), 0);
+  window_begin_.assign(std::size_t(n) + 1, 0);
   const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
   for (int p = 0; p < n; ++p) {
     if (!mask_.data()[p]) continue;
-    const double s = local.slant.data()[p], sin_s = std::sin(s);
-    std::array<float, kMaxLabels> cost_buffer;
-    float* cost = cost_buffer.data();
-    std::fill(cost, cost + k_count, kProhibited);
-    const bool defined = local.tilt_defined.data()[p];
-    const double t = local.tilt.data()[p];
-    if (defined) convex_tilt_[std::size_t(p)] = float(t + M_PI);
-    const int concave_label = nearest_label(t), convex_label = nearest_label(t + M_PI);
-    const int centre = params.band >= 0 && params.band_centre ? (*params.band_centre)[std::size_t(p)] : -1;
-    auto in_band = [&](int k) {
-      const int d = (k - centre + k_count) % k_count;
-      return centre < 0 || std::min(d, k_count - d) <= params.band;
-    };
+    int width = k_count;
+    const int centre = band_width < k_count ? (*params.band_centre)[std::size_t(p)] : -1;
+    if (centre >= 0) {
+      const PixelTerms terms = pixel_terms(p);
+      const int first = (centre - params.band + k_count) % k_count;
+      for (int j = 0; j < band_width && width == k_count; ++j)
+        if (std::isfinite(label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
+    }
+    window_begin_[std::size_t(p) + 1] = width;
+  }
+  for (int p = 0; p < n; ++p) window_begin_[std::size_t(p) + 1] += window_begin_[std::size_t(p)];
 
+  convex_tilt_.assign(std::size_t(n), std::numeric_limits<float>::quiet_NaN());
+  data_cost_.assign(std::size_t(window_begin_.back()), kProhibited);
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
+  for (int p = 0; p < n; ++p) {
+    if (!mask_.data()[p]) continue;
+    const PixelTerms terms = pixel_terms(p);
+    if (terms.defined) convex_tilt_[std::size_t(p)] = float(terms.t + M_PI);
+    const int first = window_first_[std::size_t(p)];
+    const int width = int(window_begin_[std::size_t(p) + 1] - window_begin_[std::size_t(p)]);
+    float* cost = data_cost_.data() + window_begin_[std::size_t(p)];
+    auto label_at = [&](int j) { return (first + j) % k_count; };
     int most_frontal = 0;
-    double best_nz = -2.0;
-    auto fill_costs = [&](bool band_only) {
-      for (int k = 0; k < k_count; ++k) {
-        // z of Rz(tS) Ry(sS) n'(s, theta): the rotation about z leaves it unchanged.
-        const double nz = cos_ls * std::cos(s) - sin_ls * sin_s * cos_label[std::size_t(k)];
-        if (nz > best_nz) best_nz = nz, most_frontal = k;
-        if (nz <= kMinFrontFacing || (band_only && !in_band(k))) continue;
-        if (!defined) {
-          cost[k] = float(params.undefined_weight * 2.0 * sin_s * std::sin(0.5 * angle_distance(label_angle[std::size_t(k)], M_PI)));
-        } else if (params.data_term == DataTerm::Soft) {
-          const double d = std::min(angle_distance(label_angle[std::size_t(k)], t),
-                                    angle_distance(label_angle[std::size_t(k)], t + M_PI));
-          cost[k] = float(params.data_weight * 2.0 * sin_s * std::sin(0.5 * d));
-        } else if (k == concave_label || k == convex_label) {
-          cost[k] = 0.0f;
-        }
-      }
-      return std::any_of(cost, cost + k_count, [](float v) { return std::isfinite(v); });
-    };
-    // A pixel with no allowed label in its band keeps them all.
-    if (!fill_costs(centre >= 0) && centre >= 0) fill_costs(false);
+    for (int j = 0; j < width; ++j) {
+      cost[j] = label_cost(terms, label_at(j));
+      if (label_nz(terms, label_at(j)) > label_nz(terms, label_at(most_frontal))) most_frontal = j;
+    }
     // Eq. (10) can leave no label when both candidates face away after discretization.
-    if (std::none_of(cost, cost + k_count, [](float v) { return std::isfinite(v); })) cost[most_frontal] = 0.0f;
+    if (std::none_of(cost, cost + width, [](float v) { return std::isfinite(v); })) cost[most_frontal] = 0.0f;
 
     // Dead-end elimination against the cheapest label and the cheapest one of the other convexity.
     int best = -1;
-    for (int k = 0; k < k_count; ++k)
-      if (std::isfinite(cost[k]) && (best < 0 || cost[k] < cost[best])) best = k;
+    for (int j = 0; j < width; ++j)
+      if (std::isfinite(cost[j]) && (best < 0 || cost[j] < cost[best])) best = j;
     int rival = -1;
-    for (int k = 0; k < k_count; ++k)
-      if (std::isfinite(cost[k]) && label_distance(k, best) > float(M_SQRT2) && (rival < 0 || cost[k] < cost[rival]))
-        rival = k;
+    for (int j = 0; j < width; ++j)
+      if (std::isfinite(cost[j]) && label_distance(label_at(j), label_at(best)) > float(M_SQRT2) &&
+          (rival < 0 || cost[j] < cost[rival]))
+        rival = j;
     const int r = p / cols_, c = p % cols_;
     const float neighbour_weight = weight_right_[std::size_t(p)] + weight_down_[std::size_t(p)] +
                                    (c > 0 ? weight_right_[std::size_t(p - 1)] : 0.0f) +
                                    (r > 0 ? weight_down_[std::size_t(p - cols_)] : 0.0f);
-    for (int k = 0; k < k_count; ++k) {
-      if (!std::isfinite(cost[k]) || k == best || k == rival) continue;
+    for (int j = 0; j < width; ++j) {
+      if (!std::isfinite(cost[j]) || j == best || j == rival) continue;
       for (int b : {best, rival}) {
-        if (b >= 0 && cost[k] - cost[b] > neighbour_weight * label_distance(k, b) + kDominanceSlack) {
-          cost[k] = kProhibited;
+        if (b >= 0 && cost[j] - cost[b] > neighbour_weight * label_distance(label_at(j), label_at(b)) + kDominanceSlack) {
+          cost[j] = kProhibited;
           break;
         }
       }
     }
-    for (int k = 0; k < k_count; ++k) data_cost_[std::size_t(k) * n + p] = cost[k];
   }
 }
 
@@ -178,11 +204,7 @@ int TiltEnergy::nearest_allowed_label(int pixel, double tilt) const {
 }
 
 std::int64_t TiltEnergy::allowed_count() const {
-  std::int64_t count = 0;
-  for (int p = 0; p < rows_ * cols_; ++p)
-    if (mask_.data()[p])
-      for (int k = 0; k < labels_; ++k) count += allowed(p, k);
-  return count;
+  return std::count_if(data_cost_.begin(), data_cost_.end(), [](float v) { return std::isfinite(v); });
 }
 
 NormalMap labelling_normals(const std::vector<int>& labelling, const TiltEnergy& energy, const LocalShape& local,
