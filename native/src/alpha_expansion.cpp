@@ -94,14 +94,63 @@ class MoveTerms {
   const std::uint8_t* variables_ = nullptr;
 };
 
-// A flow kept from the last cut of one label: the net flow through the arc of each pixel to its
+// The flows kept from the last cut of every label: the net flow through the arc of each pixel to its
 // right and to its lower neighbour (the arcs' reverse capacities are zero, so it is >= 0). The
-// terminal flows follow from conservation. Together with the current capacities it reparametrizes
-// the next move of the label, which then only has to push what the changes since made possible.
-struct KeptFlow {
-  std::vector<float> right, down;
-  std::size_t log_position = 0;  // changes logged before this were part of the graph it solved
-  bool maximal = false;          // a maximum flow whose cut was applied (or empty)
+// terminal flows follow from conservation. Together with the current capacities a label's flow
+// reparametrizes its next move, which then only has to push what the changes since made possible.
+// An arc has capacity only between two pixels where its label is allowed, so each flow is stored at
+// its pixel's slot for the label (TiltEnergy::slot): with coarse to fine, a few labels a pixel
+// instead of two planes a label.
+class KeptFlows {
+ public:
+  struct State {
+    bool started = false;          // the label has a flow (until then its slots hold zeros)
+    bool maximal = false;          // a maximum flow whose cut was applied (or empty)
+    std::size_t log_position = 0;  // changes logged before this were part of the graph it solved
+  };
+
+  explicit KeptFlows(const TiltEnergy& energy)
+      : energy_(energy),
+        right_(std::size_t(energy.slot_count()), 0.0f),
+        down_(std::size_t(energy.slot_count()), 0.0f),
+        states_(std::size_t(energy.labels())) {}
+
+  /// The label the accessors below read and write.
+  void set_alpha(int alpha) { alpha_ = alpha; }
+  State& state() { return states_[std::size_t(alpha_)]; }
+
+  float right(int p) const { return read(right_, p); }
+  float down(int p) const { return read(down_, p); }
+  void set_right(int p, float flow) { write(right_, p, flow); }
+  void set_down(int p, float flow) { write(down_, p, flow); }
+
+  /// Starts the current label's flow as a copy of `label`'s, where that one has started.
+  void start_from(int label) {
+    state().started = true;
+    if (label < 0 || !states_[std::size_t(label)].started) return;
+    for (int p = 0; p < energy_.rows() * energy_.cols(); ++p) {
+      const std::int64_t from = energy_.slot(p, label), to = energy_.slot(p, alpha_);
+      if (from < 0 || to < 0) continue;
+      right_[std::size_t(to)] = right_[std::size_t(from)];
+      down_[std::size_t(to)] = down_[std::size_t(from)];
+    }
+  }
+
+ private:
+  float read(const std::vector<float>& flows, int p) const {
+    const std::int64_t s = energy_.slot(p, alpha_);
+    return s < 0 ? 0.0f : flows[std::size_t(s)];
+  }
+  // An arc without a slot has no capacity, so the flow written there is 0.
+  void write(std::vector<float>& flows, int p, float flow) {
+    const std::int64_t s = energy_.slot(p, alpha_);
+    if (s >= 0) flows[std::size_t(s)] = flow;
+  }
+
+  const TiltEnergy& energy_;
+  std::vector<float> right_, down_;
+  std::vector<State> states_;
+  int alpha_ = 0;
 };
 
 // Finishes a maximum flow of the current move from a kept flow that was maximal for the same label
@@ -131,7 +180,7 @@ class SparseRepair {
 
   // Returns false when the budget ran out. On success `sink_side` lists the tree. Either way the
   // flow pushed so far is written back.
-  bool run(const MoveTerms& terms, KeptFlow& flow, const std::vector<int>& changed, long budget,
+  bool run(const MoveTerms& terms, KeptFlows& flow, const std::vector<int>& changed, long budget,
            std::vector<int>& sink_side) {
     ++round_;
     terms_ = &terms;
@@ -146,10 +195,10 @@ class SparseRepair {
     // it, which moves the difference into the terminal excess of both ends (a reparametrization).
     for (const int p : changed) {
       const int c = p % cols_;
-      if (c + 1 < cols_) clamp(flow.right[std::size_t(p)], terms.right_arc(p));
-      if (c > 0) clamp(flow.right[std::size_t(p - 1)], terms.right_arc(p - 1));
-      if (p + cols_ < n_) clamp(flow.down[std::size_t(p)], terms.down_arc(p));
-      if (p >= cols_) clamp(flow.down[std::size_t(p - cols_)], terms.down_arc(p - cols_));
+      if (c + 1 < cols_) flow.set_right(p, std::min(flow.right(p), terms.right_arc(p)));
+      if (c > 0) flow.set_right(p - 1, std::min(flow.right(p - 1), terms.right_arc(p - 1)));
+      if (p + cols_ < n_) flow.set_down(p, std::min(flow.down(p), terms.down_arc(p)));
+      if (p >= cols_) flow.set_down(p - cols_, std::min(flow.down(p - cols_), terms.down_arc(p - cols_)));
     }
     for (const int p : changed) {
       for (int d = -1; d < 4; ++d) {
@@ -186,8 +235,6 @@ class SparseRepair {
     std::uint8_t parent = 0;                   // direction towards the parent, kRoot or kOrphan
   };
 
-  static void clamp(float& f, float cap) { f = std::min(f, cap); }
-
   // Reads p's residuals from the current capacities and the kept flow (the arcs' reverse
   // capacities are zero, so a reverse residual is the flow), and its excess from its unary term
   // less what its arcs carry away.
@@ -197,17 +244,13 @@ class SparseRepair {
     loaded_.push_back(p);
     --budget_;
     const int r = p / cols_, c = p % cols_;
-    const std::vector<float>& right = flow_->right;
-    const std::vector<float>& down = flow_->down;
-    v.res[0] = c + 1 < cols_ ? terms_->right_arc(p) - right[std::size_t(p)] : 0.0f;
-    v.res[1] = c > 0 ? right[std::size_t(p - 1)] : 0.0f;
-    v.res[2] = r + 1 < rows_ ? terms_->down_arc(p) - down[std::size_t(p)] : 0.0f;
-    v.res[3] = r > 0 ? down[std::size_t(p - cols_)] : 0.0f;
-    float out = 0.0f;
-    if (c + 1 < cols_) out += right[std::size_t(p)];
-    if (r + 1 < rows_) out += down[std::size_t(p)];
-    if (c > 0) out -= right[std::size_t(p - 1)];
-    if (r > 0) out -= down[std::size_t(p - cols_)];
+    const float right = c + 1 < cols_ ? flow_->right(p) : 0.0f, left = c > 0 ? flow_->right(p - 1) : 0.0f;
+    const float down = r + 1 < rows_ ? flow_->down(p) : 0.0f, up = r > 0 ? flow_->down(p - cols_) : 0.0f;
+    v.res[0] = c + 1 < cols_ ? terms_->right_arc(p) - right : 0.0f;
+    v.res[1] = left;
+    v.res[2] = r + 1 < rows_ ? terms_->down_arc(p) - down : 0.0f;
+    v.res[3] = up;
+    const float out = right + down - left - up;
     v.excess = terms_->switch_cost(p, r, c) - out;
   }
 
@@ -337,8 +380,8 @@ class SparseRepair {
   void write_back() {
     for (const int p : loaded_) {
       const int c = p % cols_;
-      if (c + 1 < cols_ && node_[p + 1].loaded == round_) flow_->right[std::size_t(p)] = node_[p + 1].res[1];
-      if (p + cols_ < n_ && node_[p + cols_].loaded == round_) flow_->down[std::size_t(p)] = node_[p + cols_].res[3];
+      if (c + 1 < cols_ && node_[p + 1].loaded == round_) flow_->set_right(p, node_[p + 1].res[1]);
+      if (p + cols_ < n_ && node_[p + cols_].loaded == round_) flow_->set_down(p, node_[p + cols_].res[3]);
     }
   }
 
@@ -351,14 +394,14 @@ class SparseRepair {
   int round_ = 0;
   long budget_ = 0;
   const MoveTerms* terms_ = nullptr;
-  KeptFlow* flow_ = nullptr;
+  KeptFlows* flow_ = nullptr;
 };
 
 // Builds the s-t graph of the current move in `graph`, reparametrized by `flow` when given (cut
 // back to the current capacities first), and marks its variables. Returns whether any pixel can
 // switch. One sweep, on one core: the flows into a node are cut back by the time it is reached, and
 // on a shared machine waiting for a second core at every sweep cost more than it saved.
-bool build_move(MoveTerms& terms, int rows, int cols, KeptFlow* flow, GridGraph& graph,
+bool build_move(MoveTerms& terms, int rows, int cols, KeptFlows* flow, GridGraph& graph,
                 std::vector<std::uint8_t>& variable) {
   bool any = false;
   for (int p = 0; p < rows * cols; ++p) {
@@ -379,11 +422,13 @@ bool build_move(MoveTerms& terms, int rows, int cols, KeptFlow* flow, GridGraph&
       float excess = v ? terms.switch_cost(p, r, c) : 0.0f;
       float flow_right = 0.0f, flow_down = 0.0f;
       if (flow) {
-        flow_right = flow->right[std::size_t(p)] = std::min(flow->right[std::size_t(p)], right);
-        flow_down = flow->down[std::size_t(p)] = std::min(flow->down[std::size_t(p)], down);
+        flow_right = std::min(flow->right(p), right);
+        flow_down = std::min(flow->down(p), down);
+        flow->set_right(p, flow_right);
+        flow->set_down(p, flow_down);
         float out = flow_right + flow_down;
-        if (c > 0) out -= flow->right[std::size_t(p - 1)];
-        if (r > 0) out -= flow->down[std::size_t(p - cols)];
+        if (c > 0) out -= flow->right(p - 1);
+        if (r > 0) out -= flow->down(p - cols);
         excess -= out;
       }
       graph.right_cap[std::size_t(p)] = right - flow_right;
@@ -450,8 +495,8 @@ AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& 
 
   // Every pixel that took a new label, in order; a label's kept flow knows how much of it it saw.
   std::vector<int> change_log;
-  std::vector<std::unique_ptr<KeptFlow>> kept(static_cast<std::size_t>(labels));
   const bool warm = solver.leaves_residuals();
+  std::unique_ptr<KeptFlows> flows = warm ? std::make_unique<KeptFlows>(energy) : nullptr;
   std::unique_ptr<SparseRepair> repair;
   std::vector<int> seen(pixels, -1);
   int seen_round = 0;
@@ -471,7 +516,8 @@ AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& 
     for (int alpha = 0; alpha < labels; ++alpha, ++step) {
       const bool nothing_new = solved_at[std::size_t(alpha)] >= 0 && solved_at[std::size_t(alpha)] >= last_change;
       terms.set_alpha(alpha);
-      KeptFlow* flow = kept[std::size_t(alpha)].get();
+      if (flows) flows->set_alpha(alpha);
+      KeptFlows::State* flow = flows && flows->state().started ? &flows->state() : nullptr;
       bool solved = false;
       // A label's first move starts from a zero flow, which is maximal for the empty graph before
       // every variable pixel "changed"; where those are few (coarse to fine keeps most labels out of
@@ -482,10 +528,8 @@ AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& 
         for (int p = 0; p < n; ++p)
           if (terms.variable(p)) touched.push_back(p);
         if (touched.size() <= repair_limit) {
-          kept[std::size_t(alpha)] = std::make_unique<KeptFlow>();
-          flow = kept[std::size_t(alpha)].get();
-          flow->right.assign(pixels, 0.0f);
-          flow->down.assign(pixels, 0.0f);
+          flows->start_from(-1);
+          flow = &flows->state();
           flow->maximal = true;
           flow->log_position = change_log.size();
         }
@@ -500,21 +544,18 @@ AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& 
       if (!nothing_new && flow && flow->maximal && (first_visit || change_log.size() - flow->log_position <= repair_limit)) {
         if (!repair) repair = std::make_unique<SparseRepair>(energy.rows(), energy.cols());
         const auto start = std::chrono::steady_clock::now();
-        solved = repair->run(terms, *flow, touched, repair_budget, changed);
+        solved = repair->run(terms, *flows, touched, repair_budget, changed);
         stats.maxflow_seconds += seconds_since(start);
         stats.repaired_moves += solved;
       }
       if (!nothing_new && !solved) {
         if (warm && !flow) {
-          kept[std::size_t(alpha)] = std::make_unique<KeptFlow>();
-          flow = kept[std::size_t(alpha)].get();
           // The previous label's move has nearly the same shape; its flow, cut back to this move's
           // capacities, leaves less to push than none (7% fewer instructions at 384 x 384).
-          const KeptFlow* previous = alpha > 0 ? kept[std::size_t(alpha - 1)].get() : nullptr;
-          flow->right = previous ? previous->right : std::vector<float>(pixels, 0.0f);
-          flow->down = previous ? previous->down : std::vector<float>(pixels, 0.0f);
+          flows->start_from(alpha - 1);
+          flow = &flows->state();
         }
-        if (build_move(terms, energy.rows(), energy.cols(), flow, graph, variable)) {
+        if (build_move(terms, energy.rows(), energy.cols(), flow ? flows.get() : nullptr, graph, variable)) {
           const auto start = std::chrono::steady_clock::now();
           solver.solve(graph, sink_side);
           stats.maxflow_seconds += seconds_since(start);
@@ -523,8 +564,10 @@ AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& 
             if (variable[std::size_t(p)] && sink_side[std::size_t(p)]) changed.push_back(p);
           if (flow) {
             // The reverse capacities were the kept flow and started at zero: now they hold the flow.
-            flow->right.swap(graph.right_rev_cap);
-            flow->down.swap(graph.down_rev_cap);
+            for (int p = 0; p < n; ++p) {
+              flows->set_right(p, graph.right_rev_cap[std::size_t(p)]);
+              flows->set_down(p, graph.down_rev_cap[std::size_t(p)]);
+            }
           }
           solved = true;
         } else if (flow) {
