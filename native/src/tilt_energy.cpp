@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -103,34 +104,38 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
   // The windows: a pixel with a band centre keeps the band, unless no label in it is allowed; then,
   // like every other masked pixel, it keeps all labels.
   const int band_width = params.band >= 0 && params.band_centre ? std::min(2 * params.band + 1, k_count) : k_count;
-  window_first_.assign(std::size_t(n), 0);
-  window_begin_.assign(std::size_t(n) + 1, 0);
+  planes_ = band_width == k_count;
   const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
+  if (!planes_) {
+    window_first_.assign(std::size_t(n), 0);
+    window_begin_.assign(std::size_t(n) + 1, 0);
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-  for (int p = 0; p < n; ++p) {
-    if (!mask_.data()[p]) continue;
-    int width = k_count;
-    const int centre = band_width < k_count ? (*params.band_centre)[std::size_t(p)] : -1;
-    if (centre >= 0) {
-      const PixelTerms terms = pixel_terms(p);
-      const int first = (centre - params.band + k_count) % k_count;
-      for (int j = 0; j < band_width && width == k_count; ++j)
-        if (std::isfinite(label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
+    for (int p = 0; p < n; ++p) {
+      if (!mask_.data()[p]) continue;
+      int width = k_count;
+      const int centre = (*params.band_centre)[std::size_t(p)];
+      if (centre >= 0) {
+        const PixelTerms terms = pixel_terms(p);
+        const int first = (centre - params.band + k_count) % k_count;
+        for (int j = 0; j < band_width && width == k_count; ++j)
+          if (std::isfinite(label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
+      }
+      window_begin_[std::size_t(p) + 1] = width;
     }
-    window_begin_[std::size_t(p) + 1] = width;
+    for (int p = 0; p < n; ++p) window_begin_[std::size_t(p) + 1] += window_begin_[std::size_t(p)];
   }
-  for (int p = 0; p < n; ++p) window_begin_[std::size_t(p) + 1] += window_begin_[std::size_t(p)];
 
   convex_tilt_.assign(std::size_t(n), std::numeric_limits<float>::quiet_NaN());
-  data_cost_.assign(std::size_t(window_begin_.back()), kProhibited);
+  data_cost_.assign(planes_ ? std::size_t(n) * k_count : std::size_t(window_begin_.back()), kProhibited);
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
   for (int p = 0; p < n; ++p) {
     if (!mask_.data()[p]) continue;
     const PixelTerms terms = pixel_terms(p);
     if (terms.defined) convex_tilt_[std::size_t(p)] = float(terms.t + M_PI);
-    const int first = window_first_[std::size_t(p)];
-    const int width = int(window_begin_[std::size_t(p) + 1] - window_begin_[std::size_t(p)]);
-    float* cost = data_cost_.data() + window_begin_[std::size_t(p)];
+    const int first = planes_ ? 0 : window_first_[std::size_t(p)];
+    const int width = planes_ ? k_count : int(window_begin_[std::size_t(p) + 1] - window_begin_[std::size_t(p)]);
+    std::array<float, kMaxLabels> cost_buffer;
+    float* cost = cost_buffer.data();
     auto label_at = [&](int j) { return (first + j) % k_count; };
     int most_frontal = 0;
     for (int j = 0; j < width; ++j) {
@@ -162,6 +167,7 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
         }
       }
     }
+    for (int j = 0; j < width; ++j) data_cost_[std::size_t(slot(p, label_at(j)))] = cost[j];
   }
 }
 
@@ -204,6 +210,7 @@ int TiltEnergy::nearest_allowed_label(int pixel, double tilt) const {
 }
 
 std::int64_t TiltEnergy::allowed_count() const {
+  // Slots outside the mask hold +infinity.
   return std::count_if(data_cost_.begin(), data_cost_.end(), [](float v) { return std::isfinite(v); });
 }
 

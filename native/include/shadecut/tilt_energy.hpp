@@ -62,18 +62,20 @@ class TiltEnergy {
   /// The label whose tilt is nearest `tilt` (radians, any value).
   int nearest_label(double tilt) const;
 
-  /// Where the pair (pixel, label k) is stored: every masked pixel keeps a circular window of
-  /// consecutive labels (all K, or its band), and per-(pixel, label) data of any size-slot_count()
-  /// array goes at this index. -1 when k lies outside the pixel's window (k is then prohibited there;
-  /// a label inside it may be prohibited too).
+  /// Where the pair (pixel, label k) is stored: per-(pixel, label) data of any size-slot_count()
+  /// array goes at this index. Without a band every pixel keeps all K labels, in one plane per label;
+  /// with a band every masked pixel keeps a circular window of consecutive labels (its band, or all K).
+  /// -1 when k lies outside the pixel's window (k is then prohibited there; a label inside it may be
+  /// prohibited too).
   std::int64_t slot(int pixel, int k) const {
+    if (planes_) return std::int64_t(k) * (rows_ * cols_) + pixel;
     const std::int64_t begin = window_begin_[std::size_t(pixel)];
     int steps = k - window_first_[std::size_t(pixel)];
     if (steps < 0) steps += labels_;
     return steps < window_begin_[std::size_t(pixel) + 1] - begin ? begin + steps : -1;
   }
-  /// Number of slots, summed over the mask.
-  std::int64_t slot_count() const { return window_begin_.back(); }
+  /// Number of slots.
+  std::int64_t slot_count() const { return std::int64_t(data_cost_.size()); }
 
   /// R_p(k); +infinity where label k is prohibited at pixel p (p inside the mask).
   float data_cost(int pixel, int k) const {
@@ -106,9 +108,12 @@ class TiltEnergy {
  private:
   int rows_ = 0, cols_ = 0, labels_ = 0;
   Mask mask_;
-  // Pixel p's window holds the labels window_first_[p], window_first_[p] + 1, ... (mod K), at the slots
+  // Without a band, label-major planes: an expansion move reads one of them in order (its reads
+  // strided by K per pixel made the exact alpha-expansion 30% slower). With a band, pixel p's window
+  // holds the labels window_first_[p], window_first_[p] + 1, ... (mod K), at the slots
   // window_begin_[p] up to window_begin_[p + 1]; a band of 3 labels needs a twelfth of the memory of
   // all 36, which at 512 x 512 saves more time (in page faults) than building the costs takes.
+  bool planes_ = true;
   std::vector<std::int64_t> window_begin_;
   std::vector<std::int16_t> window_first_;
   std::vector<float> data_cost_;  // per slot
