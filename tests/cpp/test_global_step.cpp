@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace shadecut {
@@ -91,6 +93,66 @@ TEST(GlobalStep, CoarseToFineReachesNearlyTheExactEnergyAndAccuracy) {
   const Mask inner = erode_mask(scene.mask, 2);
   EXPECT_NEAR(mean_angular_error(fast.normals, scene.normals, inner),
               mean_angular_error(exact.normals, scene.normals, inner), 0.25);
+}
+
+
+// Why graphcut misses issue 2's bound on the bumps under light (1, 0, 1) (a strict expected failure in
+// tests/python/test_reconstruct.py): there the energy itself prefers a wrong surface. The labelling
+// nearest the truth costs far more than the one alpha-expansion finds, and alpha-expansion started
+// from the better local candidate at every pixel comes back to the found energy. A better search
+// cannot help; the energy (with the parameters chosen on the training surfaces) would have to change.
+TEST(GlobalStep, OnTheTestBumpsTheTruthCostsMoreThanTheLabellingFound) {
+  const Eigen::Vector3d light(1, 0, 1);
+  const testing::Scene scene = testing::bumps_scene(128, light);
+  const LightFrame frame = LightFrame::from_direction(light);
+  // graphcut's defaults, on one level: the exact alpha-expansion.
+  const MethodDefaults defaults = method_defaults(Method::GraphCut);
+  GlobalStepParams params;
+  params.energy.data_weight = ReconstructOptions().data_weight;
+  params.energy.undefined_weight = defaults.undefined_weight;
+  params.min_curvature = defaults.min_curvature;
+  const auto solver = make_maxflow_solver(MaxFlowKind::Grid);
+  const GlobalStepResult found = global_step(scene.image, scene.mask, frame, 1.0, params, *solver);
+
+  const LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, params.min_curvature);
+  TiltEnergyParams energy_params = params.energy;
+  energy_params.data_weight *= unary_scale(scene.mask);
+  energy_params.undefined_weight *= unary_scale(scene.mask);
+  const TiltEnergy energy(local, frame, scene.mask, energy_params);
+  const int n = int(scene.mask.size());
+  // Per pixel: the allowed label nearest the truth, and the label of the local candidate nearer it.
+  std::vector<int> nearest_truth(static_cast<std::size_t>(n)), better_candidate(static_cast<std::size_t>(n));
+  for (int p = 0; p < n; ++p) {
+    const Eigen::Vector3d truth = scene.normals.xyz.row(p).cast<double>();
+    const double slant = local.slant.data()[p];
+    double best = -2.0;
+    for (int k = 0; k < energy.labels(); ++k) {
+      const double agreement = frame.normal(slant, energy.label_tilt(k)).dot(truth);
+      if (energy.allowed(p, k) && agreement > best) best = agreement, nearest_truth[std::size_t(p)] = k;
+    }
+    better_candidate[std::size_t(p)] = nearest_truth[std::size_t(p)];
+    if (local.tilt_defined.data()[p]) {
+      const double t = local.tilt.data()[p];
+      const double tilt = frame.normal(slant, t).dot(truth) > frame.normal(slant, t + M_PI).dot(truth) ? t : t + M_PI;
+      better_candidate[std::size_t(p)] = energy.nearest_allowed_label(p, tilt);
+    }
+  }
+  const Mask inner = erode_mask(scene.mask, 2);
+  auto error = [&](const std::vector<int>& labelling) {
+    return mean_angular_error(labelling_normals(labelling, energy, local, frame, params.refine), scene.normals, inner);
+  };
+  std::vector<int> from_candidates = better_candidate;
+  alpha_expansion(energy, from_candidates, *solver, params.max_cycles);
+  std::printf("bumps, light (1, 0, 1): energy / mean error: found %.1f / %.2f deg, nearest the truth %.1f / %.2f deg, "
+              "better candidates %.1f / %.2f deg, alpha-expansion from them %.1f / %.2f deg\n",
+              energy.energy(found.labelling), error(found.labelling), energy.energy(nearest_truth), error(nearest_truth),
+              energy.energy(better_candidate), error(better_candidate), energy.energy(from_candidates),
+              error(from_candidates));
+  EXPECT_GT(error(found.labelling), 30.0);
+  EXPECT_LT(error(nearest_truth), 2.0);
+  EXPECT_GT(energy.energy(nearest_truth), 1.3 * energy.energy(found.labelling));
+  EXPECT_GT(error(from_candidates), 30.0);
+  EXPECT_LE(energy.energy(from_candidates), 1.01 * energy.energy(found.labelling));
 }
 
 }  // namespace

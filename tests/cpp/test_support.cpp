@@ -27,6 +27,32 @@ Scene sphere_scene(int size, double radius_fraction, const Eigen::Vector3d& ligh
   return scene;
 }
 
+Scene bumps_scene(int size, const Eigen::Vector3d& light) {
+  // (centre x, centre y, sigma, amplitude) in units of the image size, as synthetic.BUMPS.
+  constexpr double kFeatures[6][4] = {{-0.28, 0.18, 0.07, 0.1},   {0.0, 0.18, 0.07, -0.1}, {0.28, 0.18, 0.07, 0.1},
+                                      {-0.28, -0.18, 0.07, -0.1}, {0.0, -0.18, 0.07, 0.1}, {0.28, -0.18, 0.07, -0.1}};
+  const double centre = 0.5 * (size - 1);
+  Scene scene{ImageF::Zero(size, size), NormalMap(size, size), ImageF::Zero(size, size), Mask::Constant(size, size, true)};
+  for (int r = 0; r < size; ++r) {
+    for (int c = 0; c < size; ++c) {
+      const double x = c - centre, y = centre - r;
+      double z = 0.0, dz_dx = 0.0, dz_dy = 0.0;
+      for (const auto& f : kFeatures) {
+        const double cx = f[0] * size, cy = f[1] * size, sigma = f[2] * size, amplitude = f[3] * size;
+        const double g = amplitude * std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy)) / (2.0 * sigma * sigma));
+        z += g;
+        dz_dx -= g * (x - cx) / (sigma * sigma);
+        dz_dy -= g * (y - cy) / (sigma * sigma);
+      }
+      scene.depth(r, c) = float(z);
+      scene.normals.xyz.row(Eigen::Index(r) * size + c) = Eigen::Vector3d(-dz_dx, -dz_dy, 1.0).normalized().cast<float>();
+    }
+  }
+  scene.depth.array() -= scene.depth.minCoeff();
+  scene.image = render_lambertian(scene.normals, light, 1.0, scene.mask);
+  return scene;
+}
+
 Scene mozart_scene(const Eigen::Vector3d& light) {
   const std::string path = std::string(SHADECUT_DATA_DIR) + "/mozart/moz256.depth";
   std::ifstream file(path);

@@ -21,6 +21,11 @@ struct Scene {
 /// with its analytic normals. `bowl` turns it upside down: the concave inside of the sphere.
 Scene sphere_scene(int size, double radius_fraction, const Eigen::Vector3d& light, bool bowl = false);
 
+/// The Gaussian bumps and dents of the Python tests (shadecut.synthetic.bumps with its BUMPS layout:
+/// three bumps and three dents on a 3 x 2 grid, over the whole image), analytic normals, rendered
+/// under `light`.
+Scene bumps_scene(int size, const Eigen::Vector3d& light);
+
 /// The Mozart depth map of data/mozart (256 x 256, mask = depth > 0), normals by central differences,
 /// rendered under `light`.
 Scene mozart_scene(const Eigen::Vector3d& light);

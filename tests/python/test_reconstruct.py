@@ -37,13 +37,25 @@ def test_graphcut_recovers_the_bowl_where_the_convex_assumption_fails():
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "Known gap (issue 2): the local tilts of Lee & Rosenfeld are wrong on the saddle-shaped rings of "
-    "Gaussian bumps, so choosing between them cannot reach 0.75 x the local method; measured in the README."))
+    "Known gap (issue 2): under this light the energy's minimum is a wrong surface (the labelling "
+    "nearest the truth costs 1.6 x more: GlobalStep.OnTheTestBumpsTheTruthCostsMoreThanTheLabellingFound); "
+    "measured in the README."))
 def test_graphcut_beats_the_local_method_on_bumps_and_dents():
     bumps = synthetic.bumps((1.0, 0.0, 1.0))
     graphcut, _ = error_of(bumps, "graphcut")
     local, _ = error_of(bumps, "lee_rosenfeld")
     print(f"bumps: graphcut {graphcut:.2f} deg, lee_rosenfeld {local:.2f} deg")
+    assert graphcut <= 0.75 * local
+
+
+@pytest.mark.parametrize("light", PAPER_LIGHTS[1:])
+def test_graphcut_beats_the_local_method_on_the_same_bumps_under_the_other_lights(light):
+    """The bound of the test above holds on the same surface when the light's tilt does not run along
+    its rows of alternating bumps and dents."""
+    bumps = synthetic.bumps(light)
+    graphcut, _ = error_of(bumps, "graphcut")
+    local, _ = error_of(bumps, "lee_rosenfeld")
+    print(f"bumps {light}: graphcut {graphcut:.2f} deg, lee_rosenfeld {local:.2f} deg")
     assert graphcut <= 0.75 * local
 
 
