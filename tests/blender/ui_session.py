@@ -10,6 +10,7 @@ shadecut.blender.timers ends the process with the script's outcome.
 import sys
 import tempfile
 import threading
+import time
 from pathlib import Path
 
 import bpy
@@ -40,6 +41,11 @@ def record_progress():
 
     def progress(job, fraction, stage):
         state["fractions"].append(fraction)
+        # With "hold" the job waits here for Esc (at most 10 s), as a long reconstruction would: this
+        # sphere takes well under a second, about as long as a simulated key takes to arrive.
+        deadline = time.monotonic() + 10.0
+        while state.get("hold") and not job.cancel and time.monotonic() < deadline:
+            time.sleep(0.01)
         return original(job, fraction, stage)
 
     operators.Job.progress = progress
@@ -81,6 +87,7 @@ def steps():
     print("ui: one undo step removed the result")
 
     state["fractions"].clear()
+    state["hold"] = True
     with bpy.context.temp_override(**view3d_override()):
         assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
     while not state["fractions"]:
