@@ -1,5 +1,6 @@
 // shadecut: reconstruct one image file into depth, normal and mesh files, without Blender.
 #include <shadecut/errors.hpp>
+#include <shadecut/estimate_light.hpp>
 #include <shadecut/image_io.hpp>
 #include <shadecut/reconstruct.hpp>
 
@@ -14,7 +15,7 @@
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: shadecut IMAGE --light X,Y,Z [options]
+constexpr const char* kUsage = R"(usage: shadecut IMAGE [--light X,Y,Z] [options]
 
 Reconstructs a surface from one shaded image (shape from shading using graph cuts) and writes
 depth.exr, depth.png, normals.exr, normals.png and mesh.ply to the output folder.
@@ -23,7 +24,9 @@ Conventions: x right, y up, z toward the viewer; the light points from the surfa
 e.g. 1,0,1 = from the right-front. The image's alpha channel, if any, is the mask.
 
 options:
-  --light X,Y,Z        light direction in the camera frame (required, Z > 0)
+  --light X,Y,Z        light direction in the camera frame (Z > 0); without it the light (and,
+                       unless --albedo is given, the albedo) is estimated from the image
+  --light-method NAME  estimator used without --light: zheng_chellappa (default) or lee_rosenfeld
   --out DIR            output folder (default: shadecut_out)
   --method NAME        graphcut (default), graphcut_two, lee_rosenfeld, brooks_horn or tsai_shah
   --albedo A           albedo (default: estimated from the brightest pixels)
@@ -92,6 +95,8 @@ int main(int argc, char** argv) {
         return 0;
       } else if (arg == "--light") {
         light = parse_light(value());
+      } else if (arg == "--light-method") {
+        options.light_estimator = shadecut::parse_light_estimator(value());
       } else if (arg == "--out") {
         out_dir = value();
       } else if (arg == "--method") {
@@ -125,7 +130,6 @@ int main(int argc, char** argv) {
       }
     }
     if (image_path.empty()) fail("no image given");
-    if (!light) fail("--light X,Y,Z is required");
 
     const shadecut::LoadedImage input = shadecut::load_image(image_path, shadecut::parse_color_space(color_space));
     if (!quiet) {
@@ -135,7 +139,7 @@ int main(int argc, char** argv) {
         return true;
       };
     }
-    const shadecut::Reconstruction result = shadecut::reconstruct(input.intensity, *light, &input.mask, albedo, options);
+    const shadecut::Reconstruction result = shadecut::reconstruct(input.intensity, light, &input.mask, albedo, options);
 
     std::filesystem::create_directories(out_dir);
     const std::filesystem::path out(out_dir);
@@ -145,7 +149,10 @@ int main(int argc, char** argv) {
     shadecut::save_normals((out / "normals.png").string(), result.normals, result.mask);
     shadecut::save_mesh((out / "mesh.ply").string(), result.depth, result.mask);
 
-    std::cout << "method " << shadecut::to_string(options.method) << ", albedo " << result.albedo << ", "
+    const Eigen::Vector3d& used = result.light;
+    std::cout << "light " << used.x() << "," << used.y() << "," << used.z()
+              << (result.stats.light_estimated ? " (estimated by " + shadecut::to_string(options.light_estimator) + ")" : "")
+              << "\nmethod " << shadecut::to_string(options.method) << ", albedo " << result.albedo << ", "
               << result.stats.cycles << " cycles, " << result.stats.moves << " moves, "
               << result.stats.seconds.at("total") << " s\n"
               << "wrote depth.exr depth.png normals.exr normals.png mesh.ply to " << out.string() << "\n";

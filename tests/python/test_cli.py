@@ -26,11 +26,25 @@ def test_reconstructs_a_png_with_alpha(tmp_path):
     np.testing.assert_array_equal(depth.mask, sphere.mask)  # the alpha channel was the mask
 
 
+def test_without_a_light_it_estimates_one_and_says_which(tmp_path):
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=64, albedo=0.8)
+    shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)
+    for light_method in shadecut.LIGHT_METHODS:
+        done = run(tmp_path / "sphere.png", "--light-method", light_method, "--out", tmp_path / light_method, "--quiet")
+        assert done.returncode == 0, done.stderr
+        expected, _ = shadecut.estimate_light(shadecut.load_image(tmp_path / "sphere.png").image, sphere.mask,
+                                              light_method)
+        reported = done.stdout.splitlines()[0]
+        assert reported.endswith(f"(estimated by {light_method})")
+        used = np.array([float(v) for v in reported.split()[1].split(",")])
+        np.testing.assert_allclose(used, expected, atol=1e-4)
+
+
 def test_bad_arguments_exit_2_with_a_message(tmp_path):
     assert run("--help").returncode == 0
     missing = run(tmp_path / "none.png", "--light", "1,0,1")
     assert missing.returncode == 2 and "none.png" in missing.stderr
     below = run(tmp_path / "none.png", "--light", "1,0,-1")
     assert below.returncode == 2
-    no_light = run(tmp_path / "x.png")
-    assert no_light.returncode == 2 and "--light" in no_light.stderr
+    bad_estimator = run(tmp_path / "x.png", "--light-method", "pentland")
+    assert bad_estimator.returncode == 2 and "unknown light estimator" in bad_estimator.stderr
