@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import itertools
 import sys
+import time
 
 import numpy as np
 
@@ -58,7 +59,8 @@ GRID = {
     },
     "graphcut_two": {"min_curvature": [0.3, 1.0, 2.0], "undefined_weight": [0.0, 0.05, 0.2, 0.5]},
     "lee_rosenfeld": {"min_curvature": [0.3, 1.0, 2.0]},
-    "brooks_horn": {"smoothness": [0.2, 0.3, 0.5, 1.0, 3.0], "iterations": [500, 2000, 8000], "tolerance": [0.0, 1e-5, 1e-4]},
+    "brooks_horn": {"smoothness": [0.3, 0.6, 1.0, 2.0, 4.0, 8.0], "iterations": [500, 2000, 8000],
+                    "tolerance": [0.0, 1e-5, 1e-4]},
     "tsai_shah": {"iterations": [1, 2, 3, 5, 10, 20, 50, 100]},
 }
 
@@ -74,8 +76,14 @@ def main() -> int:
         grid = GRID[method]
         names = list(grid)
         scored = []
-        for values in itertools.product(*grid.values()):
+        settings = list(itertools.product(*grid.values()))
+        started = time.monotonic()
+        for done, values in enumerate(settings):
             params = dict(zip(names, values))
+            if done:
+                left = (time.monotonic() - started) / done * (len(settings) - done)
+                print(f"\r{method}: setting {done + 1}/{len(settings)}, about {left / 60:.0f} min left ",
+                      end="", file=sys.stderr, flush=True)
             errors = {
                 size: [scene.mean_error(shadecut.reconstruct(scene.image, scene.light, scene.mask, albedo=scene.albedo,
                                                              method=method, **params).normals)

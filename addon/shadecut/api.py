@@ -124,7 +124,9 @@ def reconstruct(
             None = the method's default (README, "Choosing the parameters").
         iterations: brooks_horn, tsai_shah: the number of sweeps (an upper bound for brooks_horn);
             None = the method's tuned default.
-        smoothness: brooks_horn: weight lambda of the smoothness term; None = the tuned default.
+        smoothness: brooks_horn: weight lambda of the smoothness term for an object 128 pixels across
+            (scaled by the object's area in pixels, so the same value means the same at every
+            resolution); None = the tuned default.
         light_method: the estimator used when ``light`` is None, one of :data:`LIGHT_METHODS`.
         min_curvature: the local tilt is undefined where the surface reads as flat: where
             |grad I| L / (albedo sin s), the curvature of the locally spherical patch in units of the

@@ -74,7 +74,9 @@ struct ReconstructOptions {
   int coarse_to_fine_band = 1;
   std::optional<double> tolerance;          ///< convergence tolerance (MethodDefaults::tolerance); unset = method_defaults
   std::optional<int> iterations;            ///< brooks_horn, tsai_shah sweeps; unset = method_defaults
-  std::optional<double> smoothness;         ///< brooks_horn lambda; unset = method_defaults
+  /// brooks_horn lambda for an object of kReferenceObjectSize pixels (the per-pixel weight is this
+  /// times (object_size / kReferenceObjectSize)^2); unset = method_defaults
+  std::optional<double> smoothness;
   LightEstimator light_estimator = LightEstimator::ZhengChellappa;  ///< used when no light is given
   std::optional<double> min_curvature;      ///< curvature in units of the object below which the local tilt is undefined (local_shape); unset = method_defaults
   bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
