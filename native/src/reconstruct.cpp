@@ -52,7 +52,7 @@ MethodDefaults method_defaults(Method method) {
     case Method::GraphCut: return {1.0, 0.5, 0.0, 0, 0.0};
     case Method::GraphCutTwo: return {2.0, 0.05, 0.0, 0, 0.0};
     case Method::LeeRosenfeld: return {2.0, 0.0, 0.0, 0, 0.0};
-    case Method::BrooksHorn: return {0.0, 0.0, 1e-5, 8000, 0.6};
+    case Method::BrooksHorn: return {0.0, 0.0, 1e-5, 8000, 0.3};
     case Method::TsaiShah: return {0.0, 0.0, 0.0, 1, 0.0};
   }
   throw InvalidArgument("shadecut: unknown method");
@@ -125,10 +125,14 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   if (options.method == Method::BrooksHorn) {
     report(options.progress, 0.0, 0.9, 0.0, "brooks_horn");
     BrooksHornParams params;
+    const double smoothness = options.smoothness.value_or(defaults.smoothness);
+    if (!(smoothness > 0.0) || !std::isfinite(smoothness))
+      throw InvalidArgument("shadecut: the smoothness of brooks_horn must be finite and > 0");
     // Per pixel the smoothness term reads |grad n|^2 h^2 while the brightness term stays put, so the
-    // weight grows with the object's area to keep the same minimum at every resolution.
+    // weight grows with the object's area to keep the same minimum at every resolution; small objects
+    // are held at the weight where the sweeps still converge.
     const double per_pixel = 1.0 / (unary_scale(mask) * unary_scale(mask));
-    params.smoothness = options.smoothness.value_or(defaults.smoothness) * per_pixel;
+    params.smoothness = std::max(kStableSmoothness, smoothness * per_pixel);
     params.iterations = iterations;
     params.tolerance = tolerance;
     params.occluding_contour = options.occluding_contour;

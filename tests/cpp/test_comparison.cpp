@@ -79,6 +79,32 @@ TEST(BrooksHorn, WithoutABoundaryTheFieldAlongTheLightNeverMoves) {
   EXPECT_LT((result.normals.xyz.row(centre).cast<double>().transpose() - frame.direction).norm(), 1e-6);
 }
 
+TEST(BrooksHorn, OnlyConvergesForASmoothnessAboveAQuarter) {
+  const Eigen::Vector3d light(1, 0, 1);
+  const testing::Scene scene = testing::sphere_scene(64, 0.45, light);
+  const LightFrame frame = LightFrame::from_direction(light);
+  BrooksHornParams params;
+  params.iterations = 8000;
+  params.tolerance = 1e-5;
+  params.smoothness = kStableSmoothness;
+  const BrooksHornResult stable = brooks_horn(scene.image, scene.mask, frame, 1.0, params);
+  EXPECT_LT(stable.iterations, 2000);
+  EXPECT_LT(mean_angular_error(stable.normals, scene.normals, erode_mask(scene.mask, 2)), 15.0);
+  params.smoothness = 0.25;
+  EXPECT_THROW(brooks_horn(scene.image, scene.mask, frame, 1.0, params), InvalidArgument);
+}
+
+TEST(Reconstruct, BrooksHornKeepsSmallObjectsAtTheStableSmoothness) {
+  // The default lambda scaled to this 51-px object would be 0.6 (51/128)^2 = 0.095 per pixel.
+  const Eigen::Vector3d light(1, 0, 1);
+  const testing::Scene scene = testing::sphere_scene(64, 0.45, light);
+  ReconstructOptions options;
+  options.method = Method::BrooksHorn;
+  const Reconstruction result = reconstruct(scene.image, light, &scene.mask, 1.0, options);
+  EXPECT_LT(result.stats.iterations, 2000);
+  EXPECT_LT(mean_angular_error(result.normals, scene.normals, erode_mask(scene.mask, 2)), 15.0);
+}
+
 TEST(TsaiShah, FirstSweepIsOneNewtonStepFromTheFlatSurface) {
   const Eigen::Vector3d light(1, 0.5, 1);
   const testing::Scene scene = testing::sphere_scene(32, 0.45, light);

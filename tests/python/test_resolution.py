@@ -18,6 +18,10 @@ SCENES = {
     "bumps": lambda size: synthetic.bumps((1.0, 0.0, 1.0), size),
 }
 METHODS = ["graphcut", "graphcut_two", "lee_rosenfeld"]
+# brooks_horn's smoothness is scaled by the object's area too; at 512 pixels its Gauss-Seidel sweeps
+# stop at their tolerance before the diffusion has crossed the sphere (README, "Comparison methods"),
+# so it is held to the 128 / 256 bound only.
+METHODS_TO_256 = METHODS + ["brooks_horn"]
 
 # Degrees between the errors of one doubling of the resolution. What remains is the pixel grid
 # itself, and it shrinks with each doubling: finer central differences on the same surface, and the
@@ -33,7 +37,7 @@ def error_at(shape, method, size):
     return scene.mean_error(result.normals)
 
 
-@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("method", METHODS_TO_256)
 @pytest.mark.parametrize("shape", list(SCENES))
 def test_128_and_256_pixels_give_the_same_error(shape, method):
     errors = {size: error_at(shape, method, size) for size in (64, 128, 256)}

@@ -8,8 +8,14 @@
 
 namespace shadecut {
 
+/// The iteration corrects n.S by -(n.S - E/albedo) / (4 lambda) a sweep, which overshoots the
+/// brightness for lambda <= 1/4: the normals then oscillate instead of converging (a 64-px sphere
+/// still does after 8000 sweeps at 1/4, and settles in ~560 at 0.3). reconstruct() keeps the
+/// per-pixel lambda at or above this.
+constexpr double kStableSmoothness = 0.3;
+
 struct BrooksHornParams {
-  double smoothness = 1.0;        ///< lambda: weight of the smoothness term against the brightness error, > 0
+  double smoothness = 1.0;        ///< lambda: weight of the smoothness term against the brightness error, > 1/4
   int iterations = 1000;          ///< upper bound on sweeps, >= 1
   double tolerance = 0.0;         ///< stop when a sweep moves the normals by at most this (mean |dn|), >= 0
   bool occluding_contour = true;  ///< hold the mask's edge at the outward silhouette normal (n_z = 0)

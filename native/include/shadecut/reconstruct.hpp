@@ -75,7 +75,7 @@ struct ReconstructOptions {
   std::optional<double> tolerance;          ///< convergence tolerance (MethodDefaults::tolerance); unset = method_defaults
   std::optional<int> iterations;            ///< brooks_horn, tsai_shah sweeps; unset = method_defaults
   /// brooks_horn lambda for an object of kReferenceObjectSize pixels (the per-pixel weight is this
-  /// times (object_size / kReferenceObjectSize)^2); unset = method_defaults
+  /// times (object_size / kReferenceObjectSize)^2, at least kStableSmoothness); unset = method_defaults
   std::optional<double> smoothness;
   LightEstimator light_estimator = LightEstimator::ZhengChellappa;  ///< used when no light is given
   std::optional<double> min_curvature;      ///< curvature in units of the object below which the local tilt is undefined (local_shape); unset = method_defaults
