@@ -16,5 +16,5 @@ for tolerance in (0.0, 1e-3, 1e-2):
     start = time.perf_counter()
     result = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo, tolerance=tolerance)
     seconds = time.perf_counter() - start
-    print(f"{tolerance:9g} {result.stats['cycles']:6d} {seconds:7.2f} {result.stats['energy'][-1]:9.1f} "
+    print(f"{tolerance:9g} {result.stats.cycles:6d} {seconds:7.2f} {result.stats.energy_per_cycle[-1]:9.1f} "
           f"{scene.mean_error(result.normals):9.2f}")

@@ -61,7 +61,7 @@ def main() -> int:
     for method in METHODS:
         result = shadecut.reconstruct(scene.image, LIGHT, scene.mask, method=method)
         results[method], errors[method] = result, scene.mean_error(result.normals)
-        print(f"  {method:14s} {errors[method]:6.2f} deg   ({result.stats['seconds']['total']:.2f} s)")
+        print(f"  {method:14s} {errors[method]:6.2f} deg   ({result.stats.seconds['total']:.2f} s)")
         shadecut.save_depth(args.out / f"{method}_depth.exr", result.depth, result.mask)
         shadecut.save_depth(args.out / f"{method}_depth.png", result.depth, result.mask)
         shadecut.save_normals(args.out / f"{method}_normals.png", result.normals, result.mask)

@@ -8,7 +8,7 @@ larger = closer; masks are (H, W) bool. Bad input raises ValueError with a messa
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable, Optional, Sequence
 
 import numpy as np
@@ -26,24 +26,31 @@ Cancelled.__doc__ = "Raised when a progress callback returns False."
 
 ProgressCallback = Callable[[float, str], Optional[bool]]
 
+ReconstructOptions = _core.ReconstructOptions
+ReconstructOptions.__doc__ = """Every setting of :func:`reconstruct`, with its default.
+
+The defaults are held once, in C++ (``native/include/shadecut/reconstruct.hpp``); print
+``ReconstructOptions()`` to see them. ``ReconstructOptions(labels=24)`` starts from the defaults,
+``options.replace(labels=24)`` from another set; an unknown name raises TypeError. Enum fields take
+the enum or its name: ``method="lee_rosenfeld"``. The meaning of each field: docs/python_api.md.
+"""
+Reconstruction = _core.Reconstruction
+ReconstructStats = _core.ReconstructStats
+Method = _core.Method
+Integrator = _core.Integrator
+LightMethod = _core.LightMethod
+
+MIN_LABELS: int = _core.MIN_LABELS
+"""The fewest tilt labels ``labels`` may be."""
+
+OPTION_NAMES: tuple = tuple(_core.OPTION_NAMES)
+"""The names of :class:`ReconstructOptions`' fields, the keywords :func:`reconstruct` takes."""
+
 METHODS: tuple = tuple(_core.METHODS)
 """Every reconstruction method's name, for ``reconstruct(..., method=...)``."""
 
 LIGHT_METHODS: tuple = tuple(_core.LIGHT_METHODS)
 """Every light estimator's name, for :func:`estimate_light` and ``reconstruct(..., light_method=...)``."""
-
-
-@dataclass
-class Reconstruction:
-    """The result of :func:`reconstruct`."""
-
-    normals: np.ndarray  # (H, W, 3) float32, camera frame; 0 outside the mask
-    depth: np.ndarray  # (H, W) float32, pixel units, larger = closer; each mask component's minimum is 0
-    mask: np.ndarray  # (H, W) bool
-    albedo: float  # the albedo used: given, estimated with the light, or the brightest pixels
-    light: np.ndarray  # (3,) unit vector toward the light used (given or estimated), camera frame
-    # seconds per stage, iterations, energy per cycle, moves, light_estimated (and light_method), ...
-    stats: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -72,88 +79,33 @@ def reconstruct(
     light: Optional[Sequence[float]] = None,
     mask=None,
     albedo: Optional[float] = None,
-    method: str = "graphcut",
     *,
-    labels: int = 36,
-    data_weight: float = 0.2,
-    undefined_weight: Optional[float] = None,
-    integrator: str = "poisson",
-    maxflow: str = "grid",
-    max_cycles: int = 20,
-    coarse_to_fine_band: int = 1,
-    tolerance: Optional[float] = None,
-    iterations: Optional[int] = None,
-    smoothness: Optional[float] = None,
-    light_method: str = "zheng_chellappa",
-    min_curvature: Optional[float] = None,
-    refine: bool = True,
-    max_slope: float = 10.0,
-    fill_shadows: bool = True,
-    occluding_contour: bool = True,
-    threads: int = 0,
+    options: Optional[ReconstructOptions] = None,
     progress: Optional[ProgressCallback] = None,
+    **overrides,
 ) -> Reconstruction:
     """Reconstructs normals and depth from one Lambertian image.
 
     Args:
         image: (H, W) linear intensity, at least 2 x 2, finite, >= 0.
         light: direction toward the distant light in the camera frame, S_z > 0; normalized here.
-            None = estimated from the image by ``light_method`` (see :func:`estimate_light`), and then
-            also the albedo unless given; ``stats["light_estimated"]`` says so.
+            None = estimated from the image by the ``light_method`` option (see :func:`estimate_light`),
+            and then also the albedo unless given; ``stats.light_estimated`` says so.
         mask: (H, W) bool pixels to reconstruct; None = every pixel.
         albedo: > 0; None = estimated with the light, or with a given light the brightest value of the
-            3 x 3 median-filtered image in the mask.
-        method: one of :data:`METHODS`: "graphcut" (eq. 15), "graphcut_two" (eq. 10),
-            "lee_rosenfeld" (local, convex), "brooks_horn" (variational), "tsai_shah" (linear, depth).
-        labels: K discrete tilts, >= 4.
-        data_weight: lambda of eq. (15) (graphcut only) for an object of 128 pixels (the square root
-            of the mask's area); for an object of L pixels the per-pixel weight is data_weight * 128 / L,
-            which keeps the balance with the pairwise term the same at every resolution.
-        undefined_weight: pull toward tilt pi where the local tilt is undefined, scaled like
-            data_weight; None = the method's tuned default (README, "Choosing the parameters").
-        integrator: "poisson" (least squares on the mask) or "frankot_chellappa".
-        maxflow: "grid" (ShadeCut's grid solver), "opencv" or "boost".
-        max_cycles: upper bound on alpha-expansion cycles.
-        coarse_to_fine_band: graphcut, graphcut_two: when >= 0 and the object is at least 96 pixels
-            across, solve at half resolution first (recursively) and keep at each pixel only the
-            labels within this many steps of its coarse label; < 0 = every label at full resolution
-            (the exact alpha-expansion). ``stats["levels"]`` counts the resolutions solved.
-        tolerance: graphcut, graphcut_two: also stop when a cycle lowers the energy by no more than
-            this share of it, 0 = only when a cycle lowers it no more (the paper's criterion);
-            brooks_horn: stop when a sweep moves the normals by no more than this (mean |dn|).
-            None = the method's default (README, "Choosing the parameters").
-        iterations: brooks_horn, tsai_shah: the number of sweeps (an upper bound for brooks_horn);
-            None = the method's tuned default.
-        smoothness: brooks_horn: weight lambda of the smoothness term for an object 128 pixels across
-            (scaled by the object's area in pixels, so the same value means the same at every
-            resolution); None = the tuned default.
-        light_method: the estimator used when ``light`` is None, one of :data:`LIGHT_METHODS`.
-        min_curvature: the local tilt is undefined where the surface reads as flat: where
-            |grad I| L / (albedo sin s), the curvature of the locally spherical patch in units of the
-            object (L = sqrt of the mask's area, s the slant), is below this; None = the method's
-            tuned default. The same at every resolution of the same surface.
-        refine: keep the local step's exact tilt where the label agrees with a candidate.
-        max_slope: integrator gradient clamp (depth units per pixel).
-        fill_shadows: interpolate normals where the image is black (attached shadow).
-        occluding_contour: take the mask's edge as the object's silhouette when filling shadows, and as
-            brooks_horn's boundary condition.
-        threads: OpenMP threads, 0 = all cores.
-        progress: called as progress(fraction, stage); returning False raises :class:`Cancelled`.
+            3 x 3 median-filtered image in the mask (:func:`estimate_albedo`).
+        options: a :class:`ReconstructOptions`; None = the defaults.
+        progress: called as progress(fraction, stage); a false answer raises :class:`Cancelled`.
+        **overrides: fields of :class:`ReconstructOptions` to change (``method="lee_rosenfeld"``,
+            ``labels=24``, ...); an unknown name raises TypeError.
+
+    Returns:
+        a :class:`Reconstruction`: ``normals``, ``depth``, ``mask``, ``albedo``, ``light`` and
+        ``stats`` (a :class:`ReconstructStats`).
     """
-    result = _core.reconstruct(
-        np.asarray(image), None if light is None else _vector3(light), _mask(mask), albedo, method, labels, data_weight,
-        undefined_weight, integrator, maxflow, max_cycles, coarse_to_fine_band, tolerance, iterations, smoothness, light_method, min_curvature,
-        refine, max_slope, fill_shadows, occluding_contour, threads,
-        progress,
-    )
-    return Reconstruction(
-        normals=result["normals"],
-        depth=result["depth"],
-        mask=result["mask"],
-        albedo=result["albedo"],
-        light=np.asarray(result["light"]),
-        stats=result["stats"],
-    )
+    chosen = (options or ReconstructOptions()).replace(**overrides)
+    return _core.reconstruct(np.asarray(image), None if light is None else _vector3(light), _mask(mask), albedo,
+                             chosen, progress)
 
 
 def render(depth_or_normals, light: Sequence[float], albedo: float = 1.0, mask=None) -> np.ndarray:
@@ -195,16 +147,19 @@ def erode_mask(mask, pixels: int) -> np.ndarray:
     return _core.erode_mask(_mask(mask), int(pixels))
 
 
-def estimate_light(image, mask=None, method: str = "lee_rosenfeld") -> tuple[np.ndarray, float]:
+def estimate_light(image, mask=None, method: Optional[str] = None) -> tuple[np.ndarray, float]:
     """Estimates (light, albedo) of a Lambertian image: light a (3,) unit vector toward the light.
 
     ``method``: "lee_rosenfeld" (Lee & Rosenfeld 1985: tilt from the mean direction of the intensity
     gradients, slant from the mean and mean squared intensity of a sphere without attached shadow) or
     "zheng_chellappa" (tilt from the mean gradient, slant from the moments of a sphere with its
     attached shadow). Both assume normals spread like a sphere's over the mask, which should cover
-    the object only. Their measured biases are in the README ("Comparison methods and light estimation").
+    the object only; their measured biases: docs/comparison_methods.md. None = the ``light_method``
+    default of :class:`ReconstructOptions`, the one :func:`reconstruct` uses.
     """
-    light, albedo = _core.estimate_light(np.asarray(image), _mask(mask), method)
+    if method is None:
+        method = ReconstructOptions().light_method
+    light, albedo = _core.estimate_light(np.asarray(image), _mask(mask), getattr(method, "name", method))
     return np.asarray(light), float(albedo)
 
 

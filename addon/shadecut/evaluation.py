@@ -255,7 +255,7 @@ def evaluate_sample(sample_id: str, shape: str, truth, methods: Sequence[str], *
         except ValueError as error:
             record.update(status="failed", error=str(error))
             continue
-        record["seconds"] = float(result.stats["seconds"]["total"])
+        record["seconds"] = float(result.stats.seconds["total"])
         record["light_error_deg"] = info["light_error_deg"]
         reconstructions[method] = result
     return SampleResult(info, records, reconstructions, truth)

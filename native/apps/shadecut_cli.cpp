@@ -4,10 +4,12 @@
 #include <shadecut/image_io.hpp>
 #include <shadecut/reconstruct.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -15,32 +17,45 @@
 
 namespace {
 
-constexpr const char* kUsage = R"(usage: shadecut IMAGE [--light X,Y,Z] [options]
+// Every default shown comes from ReconstructOptions, the one place defaults are held.
+std::string usage() {
+  const shadecut::ReconstructOptions defaults;
+  auto choices = [](const std::vector<std::string>& names) {
+    std::string text;
+    for (std::size_t i = 0; i < names.size(); ++i) text += (i ? ", " : "") + names[i];
+    return text;
+  };
+  std::ostringstream text;
+  text << R"(usage: shadecut IMAGE [--light X,Y,Z] [options]
 
 Reconstructs a surface from one shaded image (shape from shading using graph cuts) and writes
 depth.exr, depth.png, normals.exr, normals.png and mesh.ply to the output folder.
 
-Conventions: x right, y up, z toward the viewer; the light points from the surface toward the light,
-e.g. 1,0,1 = from the right-front. The image's alpha channel, if any, is the mask.
+Conventions (docs/conventions.md): x right, y up, z toward the viewer; the light points from the
+surface toward the light, e.g. 1,0,1 = from the right-front. The image's alpha channel, if any, is
+the mask.
 
 options:
   --light X,Y,Z        light direction in the camera frame (Z > 0); without it the light (and,
                        unless --albedo is given, the albedo) is estimated from the image
-  --light-method NAME  estimator used without --light: zheng_chellappa (default) or lee_rosenfeld
-  --out DIR            output folder (default: shadecut_out)
-  --method NAME        graphcut (default), graphcut_two, lee_rosenfeld, brooks_horn or tsai_shah
+  --light-method NAME  estimator used without --light: )"
+       << choices({"lee_rosenfeld", "zheng_chellappa"}) << " (default " << shadecut::to_string(defaults.light_method) << R"()
+  --out DIR            output folder (default shadecut_out)
+  --method NAME        )" << choices(shadecut::method_names()) << " (default " << shadecut::to_string(defaults.method) << R"()
   --albedo A           albedo (default: estimated from the brightest pixels)
-  --labels K           tilt labels (default 36)
-  --data-weight L      data weight lambda of graphcut (default 0.2)
-  --integrator NAME    poisson (default) or frankot_chellappa
-  --maxflow NAME       grid (default), opencv or boost
+  --labels K           tilt labels (default )" << defaults.labels << R"()
+  --data-weight L      data weight lambda of graphcut (default )" << defaults.data_weight << R"()
+  --integrator NAME    poisson, frankot_chellappa (default )" << shadecut::to_string(defaults.integrator) << R"()
   --color-space NAME   auto (default), linear or srgb: how the file's values relate to intensity
-  --tolerance T        stop when a cycle lowers the energy by at most T times it (default 0)
+  --tolerance T        stop when a cycle lowers the energy by at most T times it (default: the
+                       method's own)
   --band B             coarse to fine: keep the labels within B steps of the half-resolution
-                       solution's (default 1); -1 = exact alpha-expansion over every label
-  --threads N          threads, 0 = all cores (default)
+                       solution's (default )" << defaults.coarse_to_fine_band << R"(); -1 = exact alpha-expansion over every label
+  --threads N          threads, 0 = all cores (default )" << defaults.threads << R"()
   --quiet              no progress
 )";
+  return text.str();
+}
 
 [[noreturn]] void fail(const std::string& message) {
   // Library errors already name their origin.
@@ -68,10 +83,21 @@ double parse_number(const std::string& flag, const std::string& text) {
   try {
     std::size_t used = 0;
     const double value = std::stod(text, &used);
-    if (used == text.size()) return value;
+    if (used == text.size() && std::isfinite(value)) return value;
   } catch (const std::exception&) {
   }
-  fail(flag + " takes a number; got '" + text + "'");
+  fail(flag + " takes a finite number; got '" + text + "'");
+}
+
+int parse_integer(const std::string& flag, const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const long value = std::stol(text, &used);
+    if (used == text.size() && value >= std::numeric_limits<int>::min() && value <= std::numeric_limits<int>::max())
+      return int(value);
+  } catch (const std::exception&) {
+  }
+  fail(flag + " takes a whole number; got '" + text + "'");
 }
 
 }  // namespace
@@ -91,12 +117,12 @@ int main(int argc, char** argv) {
         return args[++i];
       };
       if (arg == "-h" || arg == "--help") {
-        std::cout << kUsage;
+        std::cout << usage();
         return 0;
       } else if (arg == "--light") {
         light = parse_light(value());
       } else if (arg == "--light-method") {
-        options.light_estimator = shadecut::parse_light_estimator(value());
+        options.light_method = shadecut::parse_light_method(value());
       } else if (arg == "--out") {
         out_dir = value();
       } else if (arg == "--method") {
@@ -104,21 +130,19 @@ int main(int argc, char** argv) {
       } else if (arg == "--albedo") {
         albedo = parse_number(arg, value());
       } else if (arg == "--labels") {
-        options.labels = int(parse_number(arg, value()));
+        options.labels = parse_integer(arg, value());
       } else if (arg == "--data-weight") {
         options.data_weight = parse_number(arg, value());
       } else if (arg == "--integrator") {
         options.integrator = shadecut::parse_integrator(value());
-      } else if (arg == "--maxflow") {
-        options.maxflow = shadecut::parse_maxflow_kind(value());
       } else if (arg == "--color-space") {
         color_space = value();
       } else if (arg == "--tolerance") {
         options.tolerance = parse_number(arg, value());
       } else if (arg == "--band") {
-        options.coarse_to_fine_band = int(parse_number(arg, value()));
+        options.coarse_to_fine_band = parse_integer(arg, value());
       } else if (arg == "--threads") {
-        options.threads = int(parse_number(arg, value()));
+        options.threads = parse_integer(arg, value());
       } else if (arg == "--quiet") {
         quiet = true;
       } else if (!arg.empty() && arg[0] == '-') {
@@ -151,7 +175,7 @@ int main(int argc, char** argv) {
 
     const Eigen::Vector3d& used = result.light;
     std::cout << "light " << used.x() << "," << used.y() << "," << used.z()
-              << (result.stats.light_estimated ? " (estimated by " + shadecut::to_string(options.light_estimator) + ")" : "")
+              << (result.stats.light_estimated ? " (estimated by " + shadecut::to_string(options.light_method) + ")" : "")
               << "\nmethod " << shadecut::to_string(options.method) << ", albedo " << result.albedo << ", "
               << result.stats.cycles << " cycles, " << result.stats.moves << " moves, "
               << result.stats.seconds.at("total") << " s\n"

@@ -13,7 +13,7 @@
 namespace shadecut {
 
 BrooksHornResult brooks_horn(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
-                             const BrooksHornParams& params, const std::function<bool(double)>& progress) {
+                             const BrooksHornParams& params, const Progress& progress) {
   check_image(image);
   check_mask(mask, image);
   if (!(albedo > 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
@@ -78,8 +78,7 @@ BrooksHornResult brooks_horn(const ImageF& image, const Mask& mask, const LightF
     }
     result.iterations = iteration + 1;
     result.change = change / pixels;
-    if (progress && (iteration + 1) % report_every == 0 && !progress(double(iteration + 1) / params.iterations))
-      throw Cancelled();
+    if ((iteration + 1) % report_every == 0) progress.report(double(iteration + 1) / params.iterations, "brooks_horn");
     if (result.change <= params.tolerance) break;
   }
   return result;

@@ -22,17 +22,17 @@ double shadowed_mean_square(double s) { return std::pow(1.0 + std::cos(s), 2) / 
 
 }  // namespace
 
-LightEstimator parse_light_estimator(const std::string& name) {
-  if (name == "lee_rosenfeld") return LightEstimator::LeeRosenfeld;
-  if (name == "zheng_chellappa") return LightEstimator::ZhengChellappa;
+LightMethod parse_light_method(const std::string& name) {
+  if (name == "lee_rosenfeld") return LightMethod::LeeRosenfeld;
+  if (name == "zheng_chellappa") return LightMethod::ZhengChellappa;
   throw InvalidArgument("shadecut: unknown light estimator '" + name + "'; choose lee_rosenfeld or zheng_chellappa");
 }
 
-std::string to_string(LightEstimator estimator) {
-  return estimator == LightEstimator::LeeRosenfeld ? "lee_rosenfeld" : "zheng_chellappa";
+std::string to_string(LightMethod estimator) {
+  return estimator == LightMethod::LeeRosenfeld ? "lee_rosenfeld" : "zheng_chellappa";
 }
 
-LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightEstimator method) {
+LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightMethod method) {
   check_image(image);
   check_mask(mask, image);
   if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
@@ -58,9 +58,9 @@ LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightEstimat
   const double ratio = mean * mean / mean_square;  // in (0, 1] by Cauchy-Schwarz
 
   LightEstimate estimate;
-  const Eigen::Vector2d tilt_vector = method == LightEstimator::LeeRosenfeld ? direction_sum : gradient_sum;
+  const Eigen::Vector2d tilt_vector = method == LightMethod::LeeRosenfeld ? direction_sum : gradient_sum;
   estimate.tilt = tilt_vector.norm() > 0.0 ? std::atan2(tilt_vector.y(), tilt_vector.x()) : 0.0;
-  if (method == LightEstimator::LeeRosenfeld) {
+  if (method == LightMethod::LeeRosenfeld) {
     // ratio = (16/9) c^2 / (1 + c^2) with c = cos(slant); every ratio >= 8/9 means a frontal light.
     const double c2 = ratio >= 8.0 / 9.0 ? 1.0 : ratio / (16.0 / 9.0 - ratio);
     estimate.slant = std::min(kMaxSlant, std::acos(std::sqrt(c2)));

@@ -1,19 +1,14 @@
 #include <shadecut/global_step.hpp>
 
 #include <shadecut/convexity_cut.hpp>
-#include <shadecut/errors.hpp>
-#include <shadecut/reconstruct.hpp>
+
+#include "stopwatch.hpp"
 
 #include <algorithm>
-#include <chrono>
 
 namespace shadecut {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // Share of a level's progress range spent on the levels below it (they have a quarter of its pixels
 // each, and every label open to them).
@@ -49,8 +44,7 @@ std::vector<int> start_from_centres(const TiltEnergy& energy, const std::vector<
 // Solves one level (after the coarser ones, when there are any) into `result`, reporting progress in
 // [begin, end] of the whole step.
 void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
-                 const GlobalStepParams& params, MaxFlowSolver& solver, const StepProgress& progress, double begin,
-                 double end, GlobalStepResult& result) {
+                 const GlobalStepParams& params, MaxFlowSolver& solver, Progress progress, GlobalStepResult& result) {
   std::vector<int> centre;
   int coarse_moves = 0, coarse_accepted = 0, coarse_repaired = 0, coarse_levels = 0;
   double coarse_seconds = 0.0;
@@ -59,9 +53,8 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
     Mask half_mask;
     halve_resolution(image, mask, half_image, half_mask);
     if (half_mask.any()) {
-      const double split = begin + kCoarseShare * (end - begin);
       GlobalStepResult coarse;
-      solve_level(half_image, half_mask, light, albedo, params, solver, progress, begin, split, coarse);
+      solve_level(half_image, half_mask, light, albedo, params, solver, progress.range(0.0, kCoarseShare), coarse);
       centre = upsample_labels(coarse.labelling, half_mask, int(image.rows()), int(image.cols()));
       coarse_moves = coarse.expansion.moves;
       coarse_accepted = coarse.expansion.accepted_moves;
@@ -69,19 +62,16 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
       coarse_seconds = coarse.expansion.maxflow_seconds;
       coarse_levels = coarse.levels;
       result.seconds = coarse.seconds;
-      begin = split;
+      progress = progress.range(kCoarseShare, 1.0);
     }
   }
 
-  auto report = [&](double fraction, const char* stage) {
-    if (progress && !progress(begin + (end - begin) * fraction, stage)) throw Cancelled();
-  };
-  report(0.0, "local");
-  auto stage_start = Clock::now();
+  progress.report(0.0, "local");
+  Stopwatch stage;
   const LocalShape local = local_shape(image, mask, light, albedo, params.min_curvature);
-  result.seconds["local"] += seconds_since(stage_start);
-  report(0.02, "energy");
-  stage_start = Clock::now();
+  result.seconds["local"] += stage.seconds();
+  progress.report(0.02, "energy");
+  stage.restart();
   TiltEnergyParams energy_params = params.energy;
   const double scale = unary_scale(mask);
   energy_params.data_weight *= scale;
@@ -89,9 +79,9 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   energy_params.band_centre = centre.empty() ? nullptr : &centre;
   energy_params.band = params.band;
   const TiltEnergy energy(local, light, mask, energy_params);
-  result.seconds["energy"] += seconds_since(stage_start);
-  report(0.05, "graphcut");
-  stage_start = Clock::now();
+  result.seconds["energy"] += stage.seconds();
+  progress.report(0.05, "graphcut");
+  stage.restart();
   std::vector<int> labelling;
   if (centre.empty()) {
     labelling = energy.convex_labelling();
@@ -101,10 +91,11 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   }
   result.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * energy.labels());
   result.expansion = alpha_expansion(energy, labelling, solver, params.max_cycles, params.tolerance,
-                                     [&](double fraction) {
-                                       return !progress || progress(begin + (end - begin) * (0.05 + 0.95 * fraction), "graphcut");
+                                     [moves = progress.range(0.05, 1.0)](double fraction) {
+                                       moves.report(fraction, "graphcut");
+                                       return true;
                                      });
-  result.seconds["graphcut"] += seconds_since(stage_start);
+  result.seconds["graphcut"] += stage.seconds();
   result.expansion.moves += coarse_moves;
   result.expansion.accepted_moves += coarse_accepted;
   result.expansion.repaired_moves += coarse_repaired;
@@ -130,9 +121,9 @@ void halve_resolution(const ImageF& image, const Mask& mask, ImageF& half_image,
 }
 
 GlobalStepResult global_step(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
-                             const GlobalStepParams& params, MaxFlowSolver& solver, const StepProgress& progress) {
+                             const GlobalStepParams& params, MaxFlowSolver& solver, const Progress& progress) {
   GlobalStepResult result;
-  solve_level(image, mask, light, albedo, params, solver, progress, 0.0, 1.0, result);
+  solve_level(image, mask, light, albedo, params, solver, progress, result);
   return result;
 }
 

@@ -12,6 +12,8 @@ namespace shadecut {
 
 double object_size(const Mask& mask) { return std::sqrt(double(mask.count())); }
 
+double unary_scale(const Mask& mask) { return kReferenceObjectSize / object_size(mask); }
+
 LocalShape local_shape(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
                        double min_curvature) {
   check_image(image);

@@ -1,32 +1,153 @@
 #include <shadecut/reconstruct.hpp>
 
 #include <shadecut/brooks_horn.hpp>
-#include <shadecut/global_step.hpp>
 #include <shadecut/errors.hpp>
+#include <shadecut/global_step.hpp>
 #include <shadecut/light.hpp>
 #include <shadecut/local_shape.hpp>
 #include <shadecut/render.hpp>
 #include <shadecut/shadow_fill.hpp>
-#include <shadecut/tilt_energy.hpp>
 #include <shadecut/tsai_shah.hpp>
 #include <shadecut/validate.hpp>
 
+#include "stopwatch.hpp"
+
 #include <opencv2/imgproc.hpp>
 #include <omp.h>
-
-#include <chrono>
 
 namespace shadecut {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+// The share of the call's progress spent on the normals; shadows and integration take the rest.
+constexpr double kNormalsShare = 0.9;
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+void check_options(const ReconstructOptions& options) {
+  if (options.threads < 0) throw InvalidArgument("shadecut: threads must be >= 0 (0 = all cores)");
+  if (options.labels < kMinLabels)
+    throw InvalidArgument("shadecut: labels must be at least " + std::to_string(kMinLabels) + " (got " +
+                          std::to_string(options.labels) + ")");
+}
 
-// Reports progress within a stage that spans [begin, end] of the whole call.
-void report(const ProgressCallback& progress, double begin, double end, double within, const char* stage) {
-  if (progress && !progress(begin + (end - begin) * within, stage)) throw Cancelled();
+// Sets the OpenMP thread count for one call and restores the caller's afterwards.
+class ThreadScope {
+ public:
+  explicit ThreadScope(int threads) : saved_(omp_get_max_threads()) {
+    omp_set_num_threads(threads > 0 ? threads : saved_);
+  }
+  ~ThreadScope() { omp_set_num_threads(saved_); }
+  ThreadScope(const ThreadScope&) = delete;
+  ThreadScope& operator=(const ThreadScope&) = delete;
+
+ private:
+  int saved_;
+};
+
+// The light frame and albedo used: given, or estimated from the image (the albedo with the light
+// when the light is estimated, else from the brightest pixels).
+LightFrame choose_lighting(const ImageF& image, const Mask& mask, const std::optional<Eigen::Vector3d>& light,
+                     std::optional<double> albedo, const ReconstructOptions& options, const Progress& progress,
+                     Reconstruction& result) {
+  Eigen::Vector3d direction;
+  if (light) {
+    direction = *light;
+  } else {
+    progress.report(0.0, "light");
+    const Stopwatch stopwatch;
+    const LightEstimate estimate = estimate_light(image, mask, options.light_method);
+    result.stats.seconds["light"] = stopwatch.seconds();
+    result.stats.light_estimated = true;
+    direction = estimate.light;
+    if (!albedo) albedo = estimate.albedo;
+  }
+  const LightFrame frame = LightFrame::from_direction(direction);
+  result.light = frame.direction;
+  result.albedo = albedo ? *albedo : estimate_albedo(image, mask);
+  if (!(result.albedo > 0.0) || !std::isfinite(result.albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
+  if ((image * mask.cast<float>()).maxCoeff() <= 1e-6f * result.albedo)
+    throw InvalidArgument("shadecut: the image is dark everywhere in the mask; nothing to reconstruct");
+  return frame;
+}
+
+NormalMap brooks_horn_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
+                              const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
+  const MethodDefaults defaults = method_defaults(Method::BrooksHorn);
+  const double smoothness = options.smoothness.value_or(defaults.smoothness);
+  if (!(smoothness > 0.0) || !std::isfinite(smoothness))
+    throw InvalidArgument("shadecut: the smoothness of brooks_horn must be finite and > 0");
+  BrooksHornParams params;
+  // Per pixel the smoothness term reads |grad n|^2 h^2 while the brightness term stays put, so the
+  // weight grows with the object's area to keep the same minimum at every resolution; small objects
+  // are held at the weight where the sweeps still converge.
+  const double per_pixel = 1.0 / (unary_scale(mask) * unary_scale(mask));
+  params.smoothness = std::max(kStableSmoothness, smoothness * per_pixel);
+  params.iterations = options.iterations.value_or(defaults.iterations);
+  params.tolerance = options.tolerance.value_or(defaults.tolerance);
+  params.occluding_contour = options.occluding_contour;
+  BrooksHornResult solved = brooks_horn(image, mask, frame, albedo, params, progress);
+  stats.iterations = solved.iterations;
+  return std::move(solved.normals);
+}
+
+NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
+                            const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
+  const MethodDefaults defaults = method_defaults(options.method);
+  GlobalStepParams params;
+  params.energy.labels = options.labels;
+  params.energy.data_weight = options.data_weight;
+  params.energy.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight);
+  params.energy.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
+  params.energy.threads = omp_get_max_threads();
+  params.min_curvature = options.min_curvature.value_or(defaults.min_curvature);
+  params.max_cycles = options.max_cycles;
+  params.tolerance = options.tolerance.value_or(defaults.tolerance);
+  params.band = options.coarse_to_fine_band;
+  params.refine = options.refine;
+  const auto solver = make_maxflow_solver(MaxFlowKind::Grid);
+  GlobalStepResult solved = global_step(image, mask, frame, albedo, params, *solver, progress);
+  for (const auto& [stage, seconds] : solved.seconds) stats.seconds[stage] = seconds;
+  stats.allowed_label_fraction = solved.allowed_label_fraction;
+  stats.energy_per_cycle = solved.expansion.energy_per_cycle;
+  stats.cycles = solved.expansion.cycles;
+  stats.iterations = solved.expansion.cycles;
+  stats.moves = solved.expansion.moves;
+  stats.accepted_moves = solved.expansion.accepted_moves;
+  stats.maxflow_seconds = solved.expansion.maxflow_seconds;
+  stats.levels = solved.levels;
+  return std::move(solved.normals);
+}
+
+// The normals of the chosen method; every stage's seconds go into the stats.
+NormalMap solve_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
+                        const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
+  const Stopwatch stopwatch;
+  switch (options.method) {
+    case Method::BrooksHorn: {
+      progress.report(0.0, "brooks_horn");
+      NormalMap normals = brooks_horn_normals(image, mask, frame, albedo, options, progress, stats);
+      stats.seconds["brooks_horn"] = stopwatch.seconds();
+      return normals;
+    }
+    case Method::TsaiShah: {
+      progress.report(0.0, "tsai_shah");
+      const int sweeps = options.iterations.value_or(method_defaults(Method::TsaiShah).iterations);
+      const TsaiShahResult solved = tsai_shah(image, mask, frame, albedo, sweeps, progress);
+      stats.seconds["tsai_shah"] = stopwatch.seconds();
+      stats.iterations = solved.iterations;
+      return normals_from_depth(solved.depth, mask);
+    }
+    case Method::LeeRosenfeld: {
+      progress.report(0.0, "local");
+      const double min_curvature = options.min_curvature.value_or(method_defaults(Method::LeeRosenfeld).min_curvature);
+      const LocalShape local = local_shape(image, mask, frame, albedo, min_curvature);
+      stats.seconds["local"] = stopwatch.seconds();
+      return convex_normals(local, frame, mask);
+    }
+    case Method::GraphCut:
+    case Method::GraphCutTwo:
+      return graph_cut_normals(image, mask, frame, albedo, options, progress, stats);
+  }
+  throw InvalidArgument("shadecut: unknown method");
 }
 
 }  // namespace
@@ -58,8 +179,6 @@ MethodDefaults method_defaults(Method method) {
   throw InvalidArgument("shadecut: unknown method");
 }
 
-double unary_scale(const Mask& mask) { return kReferenceObjectSize / object_size(mask); }
-
 double estimate_albedo(const ImageF& image, const Mask& mask) {
   check_image(image);
   check_mask(mask, image);
@@ -75,121 +194,30 @@ double estimate_albedo(const ImageF& image, const Mask& mask) {
 }
 
 Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask_in,
-                           std::optional<double> albedo_in, const ReconstructOptions& options) {
-  const auto start = Clock::now();
+                           std::optional<double> albedo, const ReconstructOptions& options) {
+  const Stopwatch total;
   check_image(image);
   const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);
   check_mask(mask, image);
   if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
-  if (options.threads < 0) throw InvalidArgument("shadecut: threads must be >= 0 (0 = all cores)");
-  if (options.labels < 4) throw InvalidArgument("shadecut: labels must be at least 4 (got " + std::to_string(options.labels) + ")");
+  check_options(options);
+  const Progress progress(options.progress);
 
   Reconstruction result;
-  ReconstructStats& stats = result.stats;
   result.mask = mask;
-  std::optional<double> albedo = albedo_in;
-  Eigen::Vector3d light_used;
-  if (light) {
-    light_used = *light;
-  } else {
-    report(options.progress, 0.0, 0.0, 0.0, "light");
-    const auto light_start = Clock::now();
-    const LightEstimate estimate = estimate_light(image, mask, options.light_estimator);
-    stats.seconds["light"] = seconds_since(light_start);
-    stats.light_estimated = true;
-    light_used = estimate.light;
-    if (!albedo) albedo = estimate.albedo;
-  }
-  const LightFrame frame = LightFrame::from_direction(light_used);
-  result.light = frame.direction;
-  result.albedo = albedo ? *albedo : estimate_albedo(image, mask);
-  if (!(result.albedo > 0.0) || !std::isfinite(result.albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
-  if ((image * mask.cast<float>()).maxCoeff() <= 1e-6f * result.albedo)
-    throw InvalidArgument("shadecut: the image is dark everywhere in the mask; nothing to reconstruct");
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-  const int saved_threads = omp_get_max_threads();
-  omp_set_num_threads(threads);
-  struct RestoreThreads {
-    int n;
-    ~RestoreThreads() { omp_set_num_threads(n); }
-  } restore{saved_threads};
+  const LightFrame frame = choose_lighting(image, mask, light, albedo, options, progress, result);
+  const ThreadScope threads(options.threads);
+  result.normals = solve_normals(image, mask, frame, result.albedo, options, progress.range(0.0, kNormalsShare), result.stats);
 
-  const MethodDefaults defaults = method_defaults(options.method);
-  const double tolerance = options.tolerance.value_or(defaults.tolerance);
-  const int iterations = options.iterations.value_or(defaults.iterations);
-  auto stage_start = Clock::now();
-  auto iteration_progress = [&](const char* stage) {
-    return [&options, stage](double fraction) { return !options.progress || options.progress(0.9 * fraction, stage); };
-  };
-
-  if (options.method == Method::BrooksHorn) {
-    report(options.progress, 0.0, 0.9, 0.0, "brooks_horn");
-    BrooksHornParams params;
-    const double smoothness = options.smoothness.value_or(defaults.smoothness);
-    if (!(smoothness > 0.0) || !std::isfinite(smoothness))
-      throw InvalidArgument("shadecut: the smoothness of brooks_horn must be finite and > 0");
-    // Per pixel the smoothness term reads |grad n|^2 h^2 while the brightness term stays put, so the
-    // weight grows with the object's area to keep the same minimum at every resolution; small objects
-    // are held at the weight where the sweeps still converge.
-    const double per_pixel = 1.0 / (unary_scale(mask) * unary_scale(mask));
-    params.smoothness = std::max(kStableSmoothness, smoothness * per_pixel);
-    params.iterations = iterations;
-    params.tolerance = tolerance;
-    params.occluding_contour = options.occluding_contour;
-    BrooksHornResult solved = brooks_horn(image, mask, frame, result.albedo, params, iteration_progress("brooks_horn"));
-    stats.seconds["brooks_horn"] = seconds_since(stage_start);
-    stats.iterations = solved.iterations;
-    result.normals = std::move(solved.normals);
-  } else if (options.method == Method::TsaiShah) {
-    report(options.progress, 0.0, 0.9, 0.0, "tsai_shah");
-    const TsaiShahResult solved = tsai_shah(image, mask, frame, result.albedo, iterations, iteration_progress("tsai_shah"));
-    stats.seconds["tsai_shah"] = seconds_since(stage_start);
-    stats.iterations = solved.iterations;
-    result.normals = normals_from_depth(solved.depth, mask);
-  } else if (options.method == Method::LeeRosenfeld) {
-    report(options.progress, 0.0, 0.9, 0.0, "local");
-    const LocalShape local =
-        local_shape(image, mask, frame, result.albedo, options.min_curvature.value_or(defaults.min_curvature));
-    stats.seconds["local"] = seconds_since(stage_start);
-    result.normals = convex_normals(local, frame, mask);
-  } else {
-    GlobalStepParams params;
-    params.energy.labels = options.labels;
-    params.energy.data_weight = options.data_weight;
-    params.energy.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight);
-    params.energy.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
-    params.energy.threads = threads;
-    params.min_curvature = options.min_curvature.value_or(defaults.min_curvature);
-    params.max_cycles = options.max_cycles;
-    params.tolerance = tolerance;
-    params.band = options.coarse_to_fine_band;
-    params.refine = options.refine;
-    auto solver = make_maxflow_solver(options.maxflow);
-    GlobalStepResult solved =
-        global_step(image, mask, frame, result.albedo, params, *solver, [&](double fraction, const char* stage) {
-          return !options.progress || options.progress(0.9 * fraction, stage);
-        });
-    for (const auto& [stage, seconds] : solved.seconds) stats.seconds[stage] = seconds;
-    stats.allowed_label_fraction = solved.allowed_label_fraction;
-    stats.energy_per_cycle = solved.expansion.energy_per_cycle;
-    stats.cycles = solved.expansion.cycles;
-    stats.iterations = solved.expansion.cycles;
-    stats.moves = solved.expansion.moves;
-    stats.accepted_moves = solved.expansion.accepted_moves;
-    stats.maxflow_seconds = solved.expansion.maxflow_seconds;
-    stats.levels = solved.levels;
-    result.normals = std::move(solved.normals);
-  }
-
-  report(options.progress, 0.9, 1.0, 0.0, "integration");
-  stage_start = Clock::now();
+  progress.report(kNormalsShare, "integration");
+  const Stopwatch integration;
   if (options.fill_shadows)
-    stats.shadow_pixels = fill_attached_shadows(result.normals, image, mask, result.albedo, options.shadow_threshold,
-                                                options.occluding_contour);
+    result.stats.shadow_pixels = fill_attached_shadows(result.normals, image, mask, result.albedo,
+                                                       options.shadow_threshold, options.occluding_contour);
   result.depth = integrate_normals(result.normals, mask, options.integrator, options.max_slope);
-  stats.seconds["integration"] = seconds_since(stage_start);
-  report(options.progress, 0.9, 1.0, 1.0, "integration");
-  stats.seconds["total"] = seconds_since(start);
+  result.stats.seconds["integration"] = integration.seconds();
+  progress.report(1.0, "integration");
+  result.stats.seconds["total"] = total.seconds();
   return result;
 }
 

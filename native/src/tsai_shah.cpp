@@ -10,7 +10,7 @@
 namespace shadecut {
 
 TsaiShahResult tsai_shah(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo, int iterations,
-                         const std::function<bool(double)>& progress) {
+                         const Progress& progress) {
   check_image(image);
   check_mask(mask, image);
   if (!(albedo > 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
@@ -49,8 +49,7 @@ TsaiShahResult tsai_shah(const ImageF& image, const Mask& mask, const LightFrame
       }
     }
     result.iterations = iteration + 1;
-    if (progress && (iteration + 1) % report_every == 0 && !progress(double(iteration + 1) / iterations))
-      throw Cancelled();
+    if ((iteration + 1) % report_every == 0) progress.report(double(iteration + 1) / iterations, "tsai_shah");
   }
   return result;
 }

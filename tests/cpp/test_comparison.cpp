@@ -25,7 +25,7 @@ TEST(EstimateLight, ZhengChellappaIsExactOnASphereImage) {
     const testing::Scene scene = testing::sphere_scene(128, 0.45, light);
     const ImageF image = 0.8f * scene.image;
     const LightFrame truth = LightFrame::from_direction(light);
-    const LightEstimate estimate = estimate_light(image, scene.mask, LightEstimator::ZhengChellappa);
+    const LightEstimate estimate = estimate_light(image, scene.mask, LightMethod::ZhengChellappa);
     EXPECT_LT(tilt_difference(estimate.tilt, truth.tilt), 1.0);
     EXPECT_NEAR(degrees(estimate.slant), degrees(truth.slant), 1.0);
     EXPECT_NEAR(estimate.albedo, 0.8, 0.01);
@@ -36,11 +36,11 @@ TEST(EstimateLight, ZhengChellappaIsExactOnASphereImage) {
 TEST(EstimateLight, LeeRosenfeldIgnoresTheAttachedShadowSoUnderestimatesObliqueSlants) {
   const Eigen::Vector3d frontal(0, 0, 1), oblique(1.5, 0.866, 1);
   const testing::Scene lit = testing::sphere_scene(128, 0.45, frontal);
-  const LightEstimate exact = estimate_light(lit.image, lit.mask, LightEstimator::LeeRosenfeld);
+  const LightEstimate exact = estimate_light(lit.image, lit.mask, LightMethod::LeeRosenfeld);
   EXPECT_LT(degrees(exact.slant), 3.0);  // no shadow: the model holds
   EXPECT_NEAR(exact.albedo, 1.0, 0.02);
   const testing::Scene shadowed = testing::sphere_scene(128, 0.45, oblique);
-  const LightEstimate biased = estimate_light(shadowed.image, shadowed.mask, LightEstimator::LeeRosenfeld);
+  const LightEstimate biased = estimate_light(shadowed.image, shadowed.mask, LightMethod::LeeRosenfeld);
   const LightFrame truth = LightFrame::from_direction(oblique);
   EXPECT_LT(tilt_difference(biased.tilt, truth.tilt), 1.0);
   EXPECT_LT(degrees(biased.slant), degrees(truth.slant) - 10.0);
@@ -49,10 +49,10 @@ TEST(EstimateLight, LeeRosenfeldIgnoresTheAttachedShadowSoUnderestimatesObliqueS
 
 TEST(EstimateLight, RejectsBadInput) {
   const Mask all = Mask::Constant(8, 8, true);
-  EXPECT_THROW(estimate_light(ImageF::Zero(8, 8), all, LightEstimator::LeeRosenfeld), InvalidArgument);
-  EXPECT_THROW(estimate_light(ImageF::Constant(8, 8, -1.0f), all, LightEstimator::ZhengChellappa), InvalidArgument);
-  EXPECT_THROW(estimate_light(ImageF::Ones(1, 8), Mask::Constant(1, 8, true), LightEstimator::LeeRosenfeld), InvalidArgument);
-  EXPECT_THROW(parse_light_estimator("pentland"), InvalidArgument);
+  EXPECT_THROW(estimate_light(ImageF::Zero(8, 8), all, LightMethod::LeeRosenfeld), InvalidArgument);
+  EXPECT_THROW(estimate_light(ImageF::Constant(8, 8, -1.0f), all, LightMethod::ZhengChellappa), InvalidArgument);
+  EXPECT_THROW(estimate_light(ImageF::Ones(1, 8), Mask::Constant(1, 8, true), LightMethod::LeeRosenfeld), InvalidArgument);
+  EXPECT_THROW(parse_light_method("pentland"), InvalidArgument);
 }
 
 TEST(BrooksHorn, RecoversTheSphereFromItsSilhouette) {

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -70,6 +71,23 @@ TEST(GlobalStep, BandKeepsOnlyLabelsNearTheCentreUnlessNoneIsAllowed) {
   }
   // The scene has pixels whose band holds only labels facing away: they keep every label.
   EXPECT_GT(kept_all, 0);
+}
+
+// The OpenCV and Boost solvers are test oracles, not user options: each gives the same quality.
+TEST(GlobalStep, EveryMaxFlowSolverGivesTheSameQuality) {
+  const Eigen::Vector3d light(1, 0, 1);
+  const testing::Scene scene = testing::sphere_scene(64, 0.45, light);
+  const LightFrame frame = LightFrame::from_direction(light);
+  GlobalStepParams params;
+  params.energy.data_weight = 0.2 * unary_scale(scene.mask);
+  params.energy.undefined_weight = 0.5 * unary_scale(scene.mask);
+  std::vector<double> errors;
+  for (MaxFlowKind kind : {MaxFlowKind::Grid, MaxFlowKind::OpenCV, MaxFlowKind::Boost}) {
+    const auto solver = make_maxflow_solver(kind);
+    const GlobalStepResult found = global_step(scene.image, scene.mask, frame, 1.0, params, *solver);
+    errors.push_back(mean_angular_error(found.normals, scene.normals, scene.mask));
+  }
+  EXPECT_LT(*std::max_element(errors.begin(), errors.end()) - *std::min_element(errors.begin(), errors.end()), 0.5);
 }
 
 TEST(GlobalStep, CoarseToFineReachesNearlyTheExactEnergyAndAccuracy) {

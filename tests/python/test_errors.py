@@ -30,7 +30,6 @@ LIGHT = (1.0, 0.0, 1.0)
         (GOOD, LIGHT, {"labels": 3}, "labels must be"),
         (GOOD, LIGHT, {"method": "magic"}, "unknown method"),
         (GOOD, LIGHT, {"integrator": "magic"}, "integrator"),
-        (GOOD, LIGHT, {"maxflow": "magic"}, "max-flow"),
         (GOOD, LIGHT, {"albedo": -1.0}, "albedo"),
         (-GOOD, LIGHT, {}, "negative"),
     ],
@@ -56,3 +55,17 @@ def test_other_functions_check_their_shapes():
         shadecut.angular_error(np.zeros((4, 4, 3)), np.zeros((5, 4, 3)))
     with pytest.raises(ValueError, match="mesh"):
         shadecut.save_mesh("/tmp/x.stl", np.zeros((4, 4), np.float32))
+
+
+def test_an_unknown_option_is_a_type_error_that_lists_the_options():
+    with pytest.raises(TypeError, match="unknown option 'maxflow'.*data_weight"):
+        shadecut.reconstruct(GOOD, LIGHT, maxflow="grid")
+    with pytest.raises(TypeError, match="unknown option 'lables'"):
+        shadecut.ReconstructOptions(lables=12)
+
+
+def test_a_falsy_progress_answer_cancels_and_none_goes_on():
+    for answer in (False, 0, "", []):
+        with pytest.raises(shadecut.Cancelled):
+            shadecut.reconstruct(GOOD, LIGHT, progress=lambda fraction, stage: answer)
+    shadecut.reconstruct(GOOD, LIGHT, progress=lambda fraction, stage: None)

@@ -33,7 +33,7 @@ MARGIN = 1.5
 @lru_cache(maxsize=None)
 def error_at(shape, method, size):
     scene = SCENES[shape](size)
-    result = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo, method)
+    result = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo, method=method)
     return scene.mean_error(result.normals)
 
 

@@ -137,7 +137,7 @@ def prepare_job(context, filepath: str = "") -> Job:
     preferences = addon_preferences(context)
     method = settings.method
     if method == "DEFAULT":
-        method = preferences.default_method if preferences else "graphcut"
+        method = preferences.default_method if preferences else api.ReconstructOptions().method.name
     options = dict(method=method, labels=settings.labels, data_weight=settings.data_weight,
                    integrator=settings.integrator, threads=preferences.threads if preferences else 0)
     return Job(

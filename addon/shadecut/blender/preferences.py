@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import bpy
 
-from .. import METHODS
+from ..api import METHODS, ReconstructOptions
 
 ADDON_ID = __package__.rpartition(".")[0]  # "shadecut", or "bl_ext.<repository>.shadecut" as an extension
 
@@ -23,11 +23,11 @@ class ShadeCutPreferences(bpy.types.AddonPreferences):
     bl_idname = ADDON_ID
 
     default_method: bpy.props.EnumProperty(
-        name="Default method", items=METHOD_ITEMS, default="graphcut",
+        name="Default method", items=METHOD_ITEMS, default=ReconstructOptions().method.name,
         description="The method the panel's 'Default' choice stands for",
     )
     threads: bpy.props.IntProperty(
-        name="Threads", default=0, min=0, max=1024,
+        name="Threads", default=ReconstructOptions().threads, min=0, max=1024,
         description="CPU threads for the reconstruction (0 = all cores)",
     )
 

@@ -4,7 +4,16 @@ from __future__ import annotations
 
 import bpy
 
+from ..api import MIN_LABELS, Integrator, ReconstructOptions
 from .preferences import METHOD_ITEMS
+
+# The library's defaults, held once in C++; the panel starts from them.
+DEFAULTS = ReconstructOptions()
+INTEGRATOR_DESCRIPTIONS = {
+    "poisson": ("Poisson", "Least squares on the mask"),
+    "frankot_chellappa": ("Frankot-Chellappa", "Fourier projection on the whole image"),
+}
+INTEGRATOR_ITEMS = tuple((name, *INTEGRATOR_DESCRIPTIONS.get(name, (name, name))) for name in Integrator.__members__)
 
 
 def _is_light(_settings, obj) -> bool:
@@ -61,18 +70,15 @@ class ShadeCutSettings(bpy.types.PropertyGroup):
         default="DEFAULT",
     )
     labels: bpy.props.IntProperty(
-        name="Labels", default=36, min=4, max=360, description="Number of discrete tilts (graph-cut methods)",
+        name="Labels", default=DEFAULTS.labels, min=MIN_LABELS, max=360, description="Number of discrete tilts (graph-cut methods)",
     )
     data_weight: bpy.props.FloatProperty(
-        name="Data weight", default=0.2, min=0.0, soft_max=5.0, description="Lambda of the paper's eq. (15)",
+        name="Data weight", default=DEFAULTS.data_weight, min=0.0, soft_max=5.0, description="Lambda of the paper's eq. (15)",
     )
     integrator: bpy.props.EnumProperty(
         name="Integrator",
-        items=(
-            ("poisson", "Poisson", "Least squares on the mask"),
-            ("frankot_chellappa", "Frankot-Chellappa", "Fourier projection on the whole image"),
-        ),
-        default="poisson",
+        items=INTEGRATOR_ITEMS,
+        default=DEFAULTS.integrator.name,
     )
     auto_albedo: bpy.props.BoolProperty(
         name="Auto albedo", default=True, description="Take the albedo from the brightest part of the image",

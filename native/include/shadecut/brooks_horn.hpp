@@ -2,9 +2,8 @@
 #pragma once
 
 #include <shadecut/light.hpp>
+#include <shadecut/progress.hpp>
 #include <shadecut/types.hpp>
-
-#include <functional>
 
 namespace shadecut {
 
@@ -39,8 +38,8 @@ struct BrooksHornResult {
 /// @param[in] light    the light frame (LightFrame::from_direction).
 /// @param[in] albedo   > 0.
 /// @param[in] params   see BrooksHornParams; throws InvalidArgument when out of range.
-/// @param[in] progress called with the fraction of the iterations done; returning false throws Cancelled.
+/// @param[in] progress told the fraction of the iterations done, as stage "brooks_horn"; may throw Cancelled.
 BrooksHornResult brooks_horn(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
-                             const BrooksHornParams& params, const std::function<bool(double)>& progress = {});
+                             const BrooksHornParams& params, const Progress& progress = {});
 
 }  // namespace shadecut

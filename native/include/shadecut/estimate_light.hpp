@@ -9,7 +9,7 @@
 
 namespace shadecut {
 
-enum class LightEstimator {
+enum class LightMethod {
   /// "lee_rosenfeld" (Lee & Rosenfeld 1985): tilt = direction of the mean of the unit intensity-gradient
   /// vectors; slant and albedo from the mean intensity E1 and mean squared intensity E2 of a
   /// Lambertian sphere seen whole and lit without attached shadow: E1 = 2/3 rho cos(s),
@@ -22,8 +22,8 @@ enum class LightEstimator {
 };
 
 /// Parses "lee_rosenfeld" or "zheng_chellappa"; throws InvalidArgument otherwise.
-LightEstimator parse_light_estimator(const std::string& name);
-std::string to_string(LightEstimator estimator);
+LightMethod parse_light_method(const std::string& name);
+std::string to_string(LightMethod estimator);
 
 struct LightEstimate {
   Eigen::Vector3d light;  ///< unit vector toward the light, camera frame; slant clamped to <= 89 degrees
@@ -43,6 +43,6 @@ struct LightEstimate {
 /// @param[in] mask   H x W pixels to use.
 /// @param[in] method which estimator.
 /// @throws InvalidArgument for bad input or an image dark everywhere in the mask.
-LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightEstimator method);
+LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightMethod method);
 
 }  // namespace shadecut

@@ -6,10 +6,10 @@
 #include <shadecut/light.hpp>
 #include <shadecut/local_shape.hpp>
 #include <shadecut/maxflow.hpp>
+#include <shadecut/progress.hpp>
 #include <shadecut/tilt_energy.hpp>
 #include <shadecut/types.hpp>
 
-#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -41,10 +41,6 @@ struct GlobalStepResult {
   std::map<std::string, double> seconds;  ///< "local", "energy", "graphcut" (cuts), summed over levels
 };
 
-/// Progress of the step: `fraction` in [0, 1] of it, `stage` "local", "energy" or "graphcut".
-/// Returning false cancels (global_step then throws Cancelled).
-using StepProgress = std::function<bool(double fraction, const char* stage)>;
-
 /// Image and mask at half resolution: pixel (i, j) stands for the 2 x 2 block at (2i, 2j), lies in
 /// the mask when the whole block does and holds the block's mean intensity. An odd last row or
 /// column is dropped.
@@ -62,8 +58,9 @@ void halve_resolution(const ImageF& image, const Mask& mask, ImageF& half_image,
 /// @param[in] albedo    > 0.
 /// @param[in] params    see GlobalStepParams.
 /// @param[in] solver    the max-flow solver, reused by every level.
-/// @param[in] progress  see StepProgress; may be empty.
+/// @param[in] progress  told the fraction of the step done, stages "local", "energy", "graphcut"; may
+///                      throw Cancelled.
 GlobalStepResult global_step(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
-                             const GlobalStepParams& params, MaxFlowSolver& solver, const StepProgress& progress = {});
+                             const GlobalStepParams& params, MaxFlowSolver& solver, const Progress& progress = {});
 
 }  // namespace shadecut

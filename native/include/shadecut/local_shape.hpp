@@ -18,6 +18,18 @@ struct LocalShape {
 /// that compare a pixel with its surroundings the same at every resolution of the same surface.
 double object_size(const Mask& mask);
 
+/// The object size at which the energy's weights (data_weight, undefined_weight) and brooks_horn's
+/// smoothness are given.
+constexpr double kReferenceObjectSize = 128.0;
+
+/// The factor that turns those per-object weights into per-pixel ones: kReferenceObjectSize /
+/// object_size(mask). The data term is summed over the area (object_size^2 pixels) and the pairwise
+/// term along label boundaries and over tilt gradients (object_size times its per-object value), so
+/// without it doubling the resolution would double the data term against the smoothness and change
+/// the minimum; with it the energy of the same surface is the same up to one factor at every
+/// resolution.
+double unary_scale(const Mask& mask);
+
 /// Computes the local estimates of every masked pixel.
 ///
 /// The tilt is t = atan2(Iy cos tS - Ix sin tS, cos sS (Ix cos tS + Iy sin tS)), with the intensity

@@ -3,12 +3,11 @@
 
 #include <shadecut/estimate_light.hpp>
 #include <shadecut/integrate.hpp>
-#include <shadecut/maxflow.hpp>
+#include <shadecut/progress.hpp>
 #include <shadecut/types.hpp>
 
 #include <Eigen/Core>
 
-#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -31,12 +30,7 @@ const std::vector<std::string>& method_names();
 Method parse_method(const std::string& name);
 std::string to_string(Method method);
 
-/// Progress of a long call: `fraction` in [0, 1] of the whole call, `stage` one of "light" (estimating
-/// it), "local", "energy", "graphcut", "brooks_horn", "tsai_shah", "integration". Returning false
-/// cancels the call (it throws Cancelled).
-using ProgressCallback = std::function<bool(double fraction, const std::string& stage)>;
-
-/// Per-method defaults chosen by scripts/tune_parameters.py on training surfaces (see the README).
+/// Per-method defaults chosen by scripts/tune_parameters.py on training surfaces (docs/parameters.md).
 /// A field a method does not use is 0.
 struct MethodDefaults {
   double min_curvature;
@@ -47,27 +41,19 @@ struct MethodDefaults {
 };
 MethodDefaults method_defaults(Method method);
 
-/// The object size (object_size in local_shape.hpp) at which data_weight and undefined_weight are
-/// the per-pixel weights of the energy.
-constexpr double kReferenceObjectSize = 128.0;
+/// The fewest tilt labels the energy can be built with.
+constexpr int kMinLabels = 4;
 
-/// The factor that turns data_weight and undefined_weight into per-pixel weights:
-/// kReferenceObjectSize / object_size(mask). The data term is summed over the area (object_size^2
-/// pixels) and the pairwise term along label boundaries and over tilt gradients (object_size times
-/// its per-object value), so without it doubling the resolution would double the data term against
-/// the smoothness and change the minimum; with it the energy of the same surface is the same up to
-/// one factor at every resolution.
-double unary_scale(const Mask& mask);
-
+/// Every setting of reconstruct(), with its default: the one place defaults are held. The Python
+/// binding, the command-line tool and the Blender add-on read them from here. Per-object weights
+/// are scaled to the object's size by unary_scale (local_shape.hpp).
 struct ReconstructOptions {
   Method method = Method::GraphCut;
   int labels = 36;                          ///< K tilt labels
-  /// lambda of eq. (15) for an object of kReferenceObjectSize pixels, tuned (graphcut only); see
-  /// unary_scale for other sizes.
+  /// lambda of eq. (15) for an object of kReferenceObjectSize pixels, tuned (graphcut only).
   double data_weight = 0.2;
   std::optional<double> undefined_weight;   ///< TiltEnergyParams::undefined_weight at kReferenceObjectSize (unary_scale); unset = method_defaults
   Integrator integrator = Integrator::Poisson;
-  MaxFlowKind maxflow = MaxFlowKind::Grid;
   int max_cycles = 20;                      ///< alpha-expansion stops earlier when a cycle gains nothing
   /// graphcut, graphcut_two: coarse to fine (GlobalStepParams::band): each pixel keeps the labels
   /// within this many steps of its label at half resolution; < 0 = one level, every label.
@@ -77,7 +63,7 @@ struct ReconstructOptions {
   /// brooks_horn lambda for an object of kReferenceObjectSize pixels (the per-pixel weight is this
   /// times (object_size / kReferenceObjectSize)^2, at least kStableSmoothness); unset = method_defaults
   std::optional<double> smoothness;
-  LightEstimator light_estimator = LightEstimator::ZhengChellappa;  ///< used when no light is given
+  LightMethod light_method = LightMethod::ZhengChellappa;  ///< the estimator used when no light is given
   std::optional<double> min_curvature;      ///< curvature in units of the object below which the local tilt is undefined (local_shape); unset = method_defaults
   bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
   double max_slope = 10.0;                  ///< gradient clamp of the integrator
@@ -85,6 +71,8 @@ struct ReconstructOptions {
   double shadow_threshold = 1e-3;           ///< relative intensity at or below which a pixel is in shadow
   bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling
   int threads = 0;                          ///< 0 = all cores
+  /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
+  /// "graphcut", "brooks_horn", "tsai_shah", "integration". Returning false cancels.
   ProgressCallback progress;
 };
 
@@ -120,7 +108,7 @@ double estimate_albedo(const ImageF& image, const Mask& mask);
 ///
 /// @param[in] image   H x W linear intensity (>= 2 x 2, finite).
 /// @param[in] light   direction toward the light, camera frame, S_z > 0 (normalized here), or
-///                    std::nullopt to estimate it with options.light_estimator (estimate_light.hpp).
+///                    std::nullopt to estimate it with options.light_method (estimate_light.hpp).
 /// @param[in] mask    H x W pixels to reconstruct, or nullptr for all.
 /// @param[in] albedo  > 0, or std::nullopt: the light estimator's albedo when the light is estimated,
 ///                    estimate_albedo otherwise.

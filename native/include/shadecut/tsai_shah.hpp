@@ -2,9 +2,8 @@
 #pragma once
 
 #include <shadecut/light.hpp>
+#include <shadecut/progress.hpp>
 #include <shadecut/types.hpp>
-
-#include <functional>
 
 namespace shadecut {
 
@@ -25,8 +24,8 @@ struct TsaiShahResult {
 /// @param[in] light      the light frame (LightFrame::from_direction).
 /// @param[in] albedo     > 0.
 /// @param[in] iterations sweeps, >= 1.
-/// @param[in] progress   called with the fraction of the sweeps done; returning false throws Cancelled.
+/// @param[in] progress   told the fraction of the sweeps done, as stage "tsai_shah"; may throw Cancelled.
 TsaiShahResult tsai_shah(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo, int iterations,
-                         const std::function<bool(double)>& progress = {});
+                         const Progress& progress = {});
 
 }  // namespace shadecut

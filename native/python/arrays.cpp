@@ -1,0 +1,74 @@
+#include "arrays.hpp"
+
+#include <shadecut/errors.hpp>
+
+#include <cstring>
+#include <string>
+
+namespace py = pybind11;
+
+namespace shadecut::python {
+
+namespace {
+
+std::string shape_of(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+}  // namespace
+
+ImageF to_image(const FloatArray& a, const char* what) {
+  if (a.ndim() != 2)
+    throw InvalidArgument(std::string("shadecut: the ") + what + " must be a 2-D array (H, W); got shape " + shape_of(a));
+  ImageF image(a.shape(0), a.shape(1));
+  std::memcpy(image.data(), a.data(), sizeof(float) * std::size_t(image.size()));
+  return image;
+}
+
+std::optional<Mask> to_mask(const std::optional<BoolArray>& a) {
+  if (!a) return std::nullopt;
+  if (a->ndim() != 2) throw InvalidArgument("shadecut: the mask must be a 2-D array (H, W); got shape " + shape_of(*a));
+  Mask mask(a->shape(0), a->shape(1));
+  std::memcpy(mask.data(), a->data(), std::size_t(mask.size()));
+  return mask;
+}
+
+Mask mask_or_all(const std::optional<BoolArray>& array, Eigen::Index rows, Eigen::Index cols) {
+  const std::optional<Mask> mask = to_mask(array);
+  return mask ? *mask : Mask::Constant(rows, cols, true);
+}
+
+NormalMap to_normals(const FloatArray& a) {
+  if (a.ndim() != 3 || a.shape(2) != 3)
+    throw InvalidArgument("shadecut: normals must be an (H, W, 3) array; got shape " + shape_of(a));
+  NormalMap normals(int(a.shape(0)), int(a.shape(1)));
+  std::memcpy(normals.xyz.data(), a.data(), sizeof(float) * std::size_t(normals.xyz.size()));
+  return normals;
+}
+
+Eigen::Vector3d to_vector3(const std::vector<double>& v, const char* what) {
+  if (v.size() != 3) throw InvalidArgument(std::string("shadecut: the ") + what + " must have 3 components");
+  return {v[0], v[1], v[2]};
+}
+
+py::array_t<float> from_image(const ImageF& image) {
+  py::array_t<float> out({image.rows(), image.cols()});
+  std::memcpy(out.mutable_data(), image.data(), sizeof(float) * std::size_t(image.size()));
+  return out;
+}
+
+py::array_t<bool> from_mask(const Mask& mask) {
+  py::array_t<bool> out({mask.rows(), mask.cols()});
+  std::memcpy(out.mutable_data(), mask.data(), std::size_t(mask.size()));
+  return out;
+}
+
+py::array_t<float> from_normals(const NormalMap& normals) {
+  py::array_t<float> out({py::ssize_t(normals.rows), py::ssize_t(normals.cols), py::ssize_t(3)});
+  std::memcpy(out.mutable_data(), normals.xyz.data(), sizeof(float) * std::size_t(normals.xyz.size()));
+  return out;
+}
+
+}  // namespace shadecut::python

@@ -1,0 +1,168 @@
+// Binds reconstruct() with its option, result and stats types and their enums. The defaults live in
+// ReconstructOptions alone: Python, the command-line tool and the add-on read them from here.
+#include "bind_reconstruct.hpp"
+
+#include "arrays.hpp"
+
+#include <shadecut/errors.hpp>
+#include <shadecut/reconstruct.hpp>
+
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
+
+#include <string>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace shadecut::python {
+
+namespace {
+
+// Binds an enum whose Python names are the library's own names (to_string), so that Method.graphcut
+// and "graphcut" mean the same everywhere.
+template <class Enum>
+void bind_enum(py::module_& m, const char* name, const char* doc, std::initializer_list<Enum> values) {
+  py::enum_<Enum> bound(m, name, doc);
+  for (Enum value : values) bound.value(to_string(value).c_str(), value);
+}
+
+// An enum option that also takes its name as a string; the parser's error names the choices.
+template <class Enum>
+void enum_option(py::class_<ReconstructOptions>& options, std::vector<std::string>& names, const char* name,
+                 Enum ReconstructOptions::*field, Enum (*parse)(const std::string&)) {
+  options.def_property(
+      name, [field](const ReconstructOptions& o) { return o.*field; },
+      [field, parse](ReconstructOptions& o, const py::object& value) {
+        o.*field = py::isinstance<py::str>(value) ? parse(value.cast<std::string>()) : value.cast<Enum>();
+      });
+  names.emplace_back(name);
+}
+
+template <class T>
+void option(py::class_<ReconstructOptions>& options, std::vector<std::string>& names, const char* name,
+            T ReconstructOptions::*field) {
+  options.def_readwrite(name, field);
+  names.emplace_back(name);
+}
+
+// A copy of `options` with the named fields set; an unknown name is a TypeError, as for a function.
+ReconstructOptions replaced(ReconstructOptions options, const py::kwargs& overrides) {
+  // Cast by move: casting the caller's own object would find and change it.
+  py::object copy = py::cast(std::move(options));
+  const py::tuple names = py::module_::import("shadecut._core").attr("OPTION_NAMES");
+  for (const auto& [key, value] : overrides) {
+    if (!names.contains(key))
+      throw py::type_error("shadecut: unknown option '" + key.cast<std::string>() + "'; the options are " +
+                           py::str(", ").attr("join")(names).cast<std::string>());
+    copy.attr(key) = value;
+  }
+  return copy.cast<ReconstructOptions>();
+}
+
+py::array view(const py::object& owner, std::vector<py::ssize_t> shape, const float* data) {
+  return py::array_t<float>(std::move(shape), data, owner);
+}
+
+}  // namespace
+
+void bind_reconstruct(py::module_& m) {
+  bind_enum<Method>(m, "Method", "Reconstruction methods (docs/method.md)",
+                    {Method::GraphCut, Method::GraphCutTwo, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah});
+  bind_enum<Integrator>(m, "Integrator", "Normal integrators", {Integrator::Poisson, Integrator::FrankotChellappa});
+  bind_enum<LightMethod>(m, "LightMethod", "Light estimators", {LightMethod::LeeRosenfeld, LightMethod::ZhengChellappa});
+
+  py::class_<ReconstructOptions> options(m, "ReconstructOptions",
+                                         "Every setting of reconstruct() with its default (native/include/shadecut/reconstruct.hpp).");
+  std::vector<std::string> names;
+  enum_option(options, names, "method", &ReconstructOptions::method, &parse_method);
+  option(options, names, "labels", &ReconstructOptions::labels);
+  option(options, names, "data_weight", &ReconstructOptions::data_weight);
+  option(options, names, "undefined_weight", &ReconstructOptions::undefined_weight);
+  enum_option(options, names, "integrator", &ReconstructOptions::integrator, &parse_integrator);
+  option(options, names, "max_cycles", &ReconstructOptions::max_cycles);
+  option(options, names, "coarse_to_fine_band", &ReconstructOptions::coarse_to_fine_band);
+  option(options, names, "tolerance", &ReconstructOptions::tolerance);
+  option(options, names, "iterations", &ReconstructOptions::iterations);
+  option(options, names, "smoothness", &ReconstructOptions::smoothness);
+  enum_option(options, names, "light_method", &ReconstructOptions::light_method, &parse_light_method);
+  option(options, names, "min_curvature", &ReconstructOptions::min_curvature);
+  option(options, names, "refine", &ReconstructOptions::refine);
+  option(options, names, "max_slope", &ReconstructOptions::max_slope);
+  option(options, names, "fill_shadows", &ReconstructOptions::fill_shadows);
+  option(options, names, "shadow_threshold", &ReconstructOptions::shadow_threshold);
+  option(options, names, "occluding_contour", &ReconstructOptions::occluding_contour);
+  option(options, names, "threads", &ReconstructOptions::threads);
+  m.attr("OPTION_NAMES") = py::tuple(py::cast(names));
+  m.attr("MIN_LABELS") = kMinLabels;
+  options.def(py::init([](const py::kwargs& overrides) { return replaced(ReconstructOptions{}, overrides); }),
+              "The defaults, with the given fields set (unknown names raise TypeError).");
+  options.def("replace", &replaced, "A copy with the given fields set.");
+  options.def("__repr__", [](const py::object& self) {
+    std::string text = "ReconstructOptions(";
+    const py::tuple fields = py::module_::import("shadecut._core").attr("OPTION_NAMES");
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      const py::object value = self.attr(fields[i]);
+      const bool is_enum = py::hasattr(value, "name") && py::hasattr(value, "value");
+      text += std::string(i ? ", " : "") + fields[i].cast<std::string>() + "=" +
+              (is_enum ? "'" + value.attr("name").cast<std::string>() + "'" : py::repr(value).cast<std::string>());
+    }
+    return text + ")";
+  });
+
+  py::class_<ReconstructStats>(m, "ReconstructStats", "What a reconstruct() call did and how long it took.")
+      .def_readonly("seconds", &ReconstructStats::seconds, "seconds per stage run, and 'total'")
+      .def_readonly("energy_per_cycle", &ReconstructStats::energy_per_cycle, "initial energy, then after every cycle")
+      .def_readonly("cycles", &ReconstructStats::cycles)
+      .def_readonly("iterations", &ReconstructStats::iterations, "cycles, or brooks_horn / tsai_shah sweeps")
+      .def_readonly("light_estimated", &ReconstructStats::light_estimated)
+      .def_readonly("moves", &ReconstructStats::moves)
+      .def_readonly("accepted_moves", &ReconstructStats::accepted_moves)
+      .def_readonly("levels", &ReconstructStats::levels, "resolutions solved (coarse to fine)")
+      .def_readonly("maxflow_seconds", &ReconstructStats::maxflow_seconds)
+      .def_readonly("allowed_label_fraction", &ReconstructStats::allowed_label_fraction)
+      .def_readonly("shadow_pixels", &ReconstructStats::shadow_pixels);
+
+  // The arrays are views of the result's own buffers, kept alive by it: no copy.
+  py::class_<Reconstruction>(m, "Reconstruction", "The result of reconstruct().")
+      .def_property_readonly("normals", [](const py::object& self) {
+        const NormalMap& n = self.cast<const Reconstruction&>().normals;
+        return view(self, {n.rows, n.cols, 3}, n.xyz.data());
+      }, "(H, W, 3) float32 camera-frame unit normals, 0 outside the mask")
+      .def_property_readonly("depth", [](const py::object& self) {
+        const ImageF& z = self.cast<const Reconstruction&>().depth;
+        return view(self, {z.rows(), z.cols()}, z.data());
+      }, "(H, W) float32, pixel units, larger = closer; each mask component's minimum is 0")
+      .def_property_readonly("mask", [](const py::object& self) {
+        const Mask& mask = self.cast<const Reconstruction&>().mask;
+        return py::array_t<bool>({mask.rows(), mask.cols()}, mask.data(), self);
+      }, "(H, W) bool, the pixels reconstructed")
+      .def_readonly("albedo", &Reconstruction::albedo, "the albedo used (given or estimated)")
+      .def_property_readonly("light", [](const Reconstruction& r) {
+        return py::array_t<double>(3, r.light.data());
+      }, "(3,) unit vector toward the light used, camera frame")
+      .def_readonly("stats", &Reconstruction::stats);
+
+  m.def(
+      "reconstruct",
+      [](const FloatArray& image_array, const std::optional<std::vector<double>>& light,
+         const std::optional<BoolArray>& mask_array, std::optional<double> albedo, ReconstructOptions options,
+         const std::optional<py::function>& progress) {
+        const ImageF image = to_image(image_array, "image");
+        const std::optional<Mask> mask = to_mask(mask_array);
+        if (progress) {
+          options.progress = [callback = *progress](double fraction, const std::string& stage) {
+            py::gil_scoped_acquire gil;
+            const py::object answer = callback(fraction, stage);
+            return answer.is_none() || PyObject_IsTrue(answer.ptr()) == 1;
+          };
+        }
+        std::optional<Eigen::Vector3d> light_vector;
+        if (light) light_vector = to_vector3(*light, "light");
+        py::gil_scoped_release release;
+        return reconstruct(image, light_vector, mask ? &*mask : nullptr, albedo, options);
+      },
+      py::arg("image"), py::arg("light"), py::arg("mask"), py::arg("albedo"), py::arg("options"), py::arg("progress"));
+}
+
+}  // namespace shadecut::python

@@ -1,0 +1,34 @@
+"""The add-on's settings start from the library's defaults (held once, in C++)."""
+
+import bpy
+import pytest
+
+import shadecut
+from shadecut.blender.preferences import ShadeCutPreferences
+from shadecut.blender.properties import ShadeCutSettings
+
+DEFAULTS = shadecut.ReconstructOptions()
+
+
+@pytest.fixture
+def settings():
+    shadecut.register()
+    yield bpy.context.scene.shadecut
+    shadecut.unregister()
+
+
+def property_of(cls, name):
+    return cls.bl_rna.properties[name]
+
+
+def test_panel_and_preferences_defaults_equal_the_bound_defaults(settings):
+    assert settings.labels == DEFAULTS.labels
+    assert settings.data_weight == pytest.approx(DEFAULTS.data_weight)
+    assert settings.integrator == DEFAULTS.integrator.name
+    assert property_of(ShadeCutSettings, "labels").hard_min == shadecut.MIN_LABELS
+    assert {item.identifier for item in property_of(ShadeCutSettings, "integrator").enum_items} == set(
+        shadecut.Integrator.__members__)
+    assert property_of(ShadeCutPreferences, "default_method").default == DEFAULTS.method.name
+    assert property_of(ShadeCutPreferences, "threads").default == DEFAULTS.threads
+    assert {item.identifier for item in property_of(ShadeCutPreferences, "default_method").enum_items} == set(
+        shadecut.METHODS)
