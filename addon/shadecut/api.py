@@ -134,12 +134,16 @@ def angular_error_map(n1, n2, mask=None) -> np.ndarray:
 
 
 def angular_error(n1, n2, mask=None) -> float:
-    """Mean angle between two normal maps over the mask, in degrees."""
-    errors = angular_error_map(n1, n2, mask)
-    selected = errors[np.isfinite(errors)] if mask is None else errors[_mask(mask)]
-    if selected.size == 0:
-        raise ValueError("shadecut: the mask for the angular error selects no pixel")
-    return float(np.mean(selected))
+    """Mean angle between two normal maps, in degrees, over the pixels of the mask (None = all)
+    where both maps have a normal (a zero vector has none)."""
+    return _core.mean_angular_error(np.asarray(n1), np.asarray(n2), _mask(mask))
+
+
+def mask_components(mask) -> tuple[np.ndarray, int]:
+    """The 4-connected parts of a mask: (labels (H, W) int32, -1 outside and 0 .. count - 1 inside,
+    numbered in raster order of each part's first pixel; count)."""
+    labels, count = _core.mask_components(_mask(mask))
+    return labels, int(count)
 
 
 def erode_mask(mask, pixels: int) -> np.ndarray:

@@ -8,6 +8,7 @@
 #include <shadecut/estimate_light.hpp>
 #include <shadecut/image_io.hpp>
 #include <shadecut/integrate.hpp>
+#include <shadecut/mask_components.hpp>
 #include <shadecut/reconstruct.hpp>
 #include <shadecut/render.hpp>
 
@@ -84,6 +85,18 @@ PYBIND11_MODULE(_core, m) {
   m.def("angular_error_map", [](const FloatArray& a, const FloatArray& b, const std::optional<BoolArray>& mask) {
     const NormalMap na = to_normals(a), nb = to_normals(b);
     return from_image(shadecut::angular_error_map(na, nb, mask_or_all(mask, na.rows, na.cols)));
+  });
+
+  m.def("mean_angular_error", [](const FloatArray& a, const FloatArray& b, const std::optional<BoolArray>& mask) {
+    const NormalMap na = to_normals(a), nb = to_normals(b);
+    return shadecut::mean_angular_error(na, nb, mask_or_all(mask, na.rows, na.cols));
+  });
+
+  m.def("mask_components", [](const BoolArray& mask) {
+    const shadecut::MaskComponents components = shadecut::mask_components(*to_mask(mask));
+    py::array_t<std::int32_t> labels({components.labels.rows(), components.labels.cols()});
+    std::copy_n(components.labels.data(), components.labels.size(), labels.mutable_data());
+    return py::make_tuple(labels, components.count);
   });
 
   m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });

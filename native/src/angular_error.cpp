@@ -25,16 +25,16 @@ ImageF angular_error_map(const NormalMap& a, const NormalMap& b, const Mask& mas
 }
 
 double mean_angular_error(const NormalMap& a, const NormalMap& b, const Mask& mask) {
-  if (!mask.any()) throw InvalidArgument("shadecut: the mask for the angular error selects no pixel");
   const ImageF degrees = angular_error_map(a, b, mask);
   double sum = 0.0;
   Eigen::Index count = 0;
   for (Eigen::Index i = 0; i < degrees.size(); ++i) {
-    if (mask.data()[i]) {
+    if (mask.data()[i] && !std::isnan(degrees.data()[i])) {
       sum += degrees.data()[i];
       ++count;
     }
   }
+  if (count == 0) throw InvalidArgument("shadecut: the mask for the angular error selects no pixel with two normals");
   return sum / double(count);
 }
 
@@ -48,6 +48,8 @@ Mask erode_mask(const Mask& mask, int pixels) {
         if (current(r, c))
           next(r, c) = r > 0 && r + 1 < rows && c > 0 && c + 1 < cols && current(r - 1, c) && current(r + 1, c) &&
                        current(r, c - 1) && current(r, c + 1);
+    // Past the point where erosion changes nothing more steps cannot either.
+    if ((next == current).all()) break;
     current = std::move(next);
   }
   return current;

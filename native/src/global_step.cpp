@@ -91,10 +91,7 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   }
   result.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * energy.labels());
   result.expansion = alpha_expansion(energy, labelling, solver, params.max_cycles, params.tolerance,
-                                     [moves = progress.range(0.05, 1.0)](double fraction) {
-                                       moves.report(fraction, "graphcut");
-                                       return true;
-                                     });
+                                     progress.range(0.05, 1.0));
   result.seconds["graphcut"] += stage.seconds();
   result.expansion.moves += coarse_moves;
   result.expansion.accepted_moves += coarse_accepted;

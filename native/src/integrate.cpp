@@ -1,10 +1,10 @@
 #include <shadecut/errors.hpp>
 #include <shadecut/integrate.hpp>
+#include <shadecut/mask_components.hpp>
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -69,39 +69,23 @@ Gradients surface_gradients(const NormalMap& normals, const Mask& mask, double m
   return gradients;
 }
 
-struct Components {
-  cv::Mat labels;  // CV_32S, 0 outside the mask, 1..count inside
-  int count = 0;   // number of components
-};
-
-Components label_components(const Mask& mask) {
-  cv::Mat inside(int(mask.rows()), int(mask.cols()), CV_8U);
-  for (int r = 0; r < inside.rows; ++r) {
-    auto* row = inside.ptr<unsigned char>(r);
-    for (int c = 0; c < inside.cols; ++c) row[c] = mask(r, c) ? 1 : 0;
-  }
-  Components components;
-  components.count = cv::connectedComponents(inside, components.labels, 4, CV_32S) - 1;
-  return components;
-}
-
 // The depth of each component is only defined up to a constant; fixing its minimum at 0 is the
 // documented gauge. Pixels outside the mask become 0.
-ImageF shift_components_to_zero(const std::vector<double>& depth, const Components& components) {
-  const int rows = components.labels.rows;
-  const int cols = components.labels.cols;
-  std::vector<double> minimum(std::size_t(components.count) + 1, std::numeric_limits<double>::infinity());
+ImageF shift_components_to_zero(const std::vector<double>& depth, const MaskComponents& components) {
+  const int rows = int(components.labels.rows());
+  const int cols = int(components.labels.cols());
+  std::vector<double> minimum(std::size_t(components.count), std::numeric_limits<double>::infinity());
   for (int r = 0; r < rows; ++r) {
-    const int* label = components.labels.ptr<int>(r);
+    const std::int32_t* label = &components.labels(r, 0);
     for (int c = 0; c < cols; ++c) {
-      if (label[c] > 0) minimum[label[c]] = std::min(minimum[label[c]], depth[std::size_t(r) * cols + c]);
+      if (label[c] >= 0) minimum[label[c]] = std::min(minimum[label[c]], depth[std::size_t(r) * cols + c]);
     }
   }
   ImageF shifted = ImageF::Zero(rows, cols);
   for (int r = 0; r < rows; ++r) {
-    const int* label = components.labels.ptr<int>(r);
+    const std::int32_t* label = &components.labels(r, 0);
     for (int c = 0; c < cols; ++c) {
-      if (label[c] > 0) shifted(r, c) = float(depth[std::size_t(r) * cols + c] - minimum[label[c]]);
+      if (label[c] >= 0) shifted(r, c) = float(depth[std::size_t(r) * cols + c] - minimum[label[c]]);
     }
   }
   return shifted;
@@ -112,19 +96,19 @@ ImageF shift_components_to_zero(const std::vector<double>& depth, const Componen
 // graph Laplacian of the mask. Each component's Laplacian is singular (a constant can be added), so
 // the first pixel of each component is pinned at 0 and drops out of the system; that leaves the
 // minimiser unchanged and makes the matrix positive definite.
-std::vector<double> integrate_poisson(const Gradients& gradients, const Components& components) {
-  const int rows = components.labels.rows;
-  const int cols = components.labels.cols;
+std::vector<double> integrate_poisson(const Gradients& gradients, const MaskComponents& components) {
+  const int rows = int(components.labels.rows());
+  const int cols = int(components.labels.cols());
   const std::size_t pixel_count = std::size_t(rows) * cols;
 
   constexpr int kNoUnknown = -1;
   std::vector<int> unknown(pixel_count, kNoUnknown);
-  std::vector<bool> pinned(std::size_t(components.count) + 1, false);
+  std::vector<bool> pinned(std::size_t(components.count), false);
   int unknown_count = 0;
   for (int r = 0; r < rows; ++r) {
-    const int* label = components.labels.ptr<int>(r);
+    const std::int32_t* label = &components.labels(r, 0);
     for (int c = 0; c < cols; ++c) {
-      if (label[c] == 0) continue;
+      if (label[c] < 0) continue;
       if (!pinned[label[c]]) {
         pinned[label[c]] = true;
       } else {
@@ -154,15 +138,15 @@ std::vector<double> integrate_poisson(const Gradients& gradients, const Componen
     if (ua != kNoUnknown && ub != kNoUnknown) lower.emplace_back(std::max(ua, ub), std::min(ua, ub), -1.0);
   };
   for (int r = 0; r < rows; ++r) {
-    const int* label = components.labels.ptr<int>(r);
-    const int* label_below = r + 1 < rows ? components.labels.ptr<int>(r + 1) : nullptr;
+    const std::int32_t* label = &components.labels(r, 0);
+    const std::int32_t* label_below = r + 1 < rows ? &components.labels(r + 1, 0) : nullptr;
     for (int c = 0; c < cols; ++c) {
-      if (label[c] == 0) continue;
+      if (label[c] < 0) continue;
       const std::size_t a = std::size_t(r) * cols + c;
-      if (c + 1 < cols && label[c + 1] != 0) {
+      if (c + 1 < cols && label[c + 1] >= 0) {
         add_edge(a, a + 1, 0.5 * (gradients.p[a] + gradients.p[a + 1]));
       }
-      if (label_below != nullptr && label_below[c] != 0) {
+      if (label_below != nullptr && label_below[c] >= 0) {
         const std::size_t b = a + cols;
         add_edge(a, b, -0.5 * (gradients.q[a] + gradients.q[b]));  // y is up: one row down is -q
       }
@@ -285,7 +269,7 @@ std::string to_string(Integrator integrator) {
 ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope) {
   validate(normals, mask, max_slope);
   Gradients gradients = surface_gradients(normals, mask, max_slope);
-  const Components components = label_components(mask);
+  const MaskComponents components = mask_components(mask);
   switch (method) {
     case Integrator::Poisson:
       return shift_components_to_zero(integrate_poisson(gradients, components), components);

@@ -2,9 +2,9 @@
 #pragma once
 
 #include <shadecut/maxflow.hpp>
+#include <shadecut/progress.hpp>
 #include <shadecut/tilt_energy.hpp>
 
-#include <functional>
 #include <vector>
 
 namespace shadecut {
@@ -17,10 +17,6 @@ struct AlphaExpansionStats {
   int repaired_moves = 0;                ///< moves solved by finishing the label's kept flow, without a full cut
   double maxflow_seconds = 0.0;          ///< time inside MaxFlowSolver::solve and the sparse repairs of kept flows
 };
-
-/// Called after every move with the fraction of the cycle budget done; returning false cancels
-/// (alpha_expansion then throws Cancelled).
-using MoveCallback = std::function<bool(double fraction)>;
 
 /// Minimizes `energy` by expansion moves, cycling over the labels until a full cycle lowers the energy
 /// no more (or `max_cycles` cycles, or a cycle lowers it by no more than `tolerance` times itself). Each move is a minimum cut over the pixels where the label is
@@ -35,8 +31,9 @@ using MoveCallback = std::function<bool(double fraction)>;
 /// @param[in] solver        the max-flow solver; its buffers are reused across moves.
 /// @param[in] max_cycles    >= 1.
 /// @param[in] tolerance     >= 0; 0 = run until a cycle gains nothing (the paper's criterion).
-/// @param[in] on_move       optional progress / cancellation callback.
+/// @param[in] progress      told after every move the fraction of the cycle budget done, as stage
+///                          "graphcut"; may throw Cancelled.
 AlphaExpansionStats alpha_expansion(const TiltEnergy& energy, std::vector<int>& labelling, MaxFlowSolver& solver,
-                                    int max_cycles, double tolerance = 0.0, const MoveCallback& on_move = {});
+                                    int max_cycles, double tolerance = 0.0, const Progress& progress = {});
 
 }  // namespace shadecut

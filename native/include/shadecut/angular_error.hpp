@@ -12,7 +12,8 @@ namespace shadecut {
 /// @return H x W angles in degrees.
 ImageF angular_error_map(const NormalMap& a, const NormalMap& b, const Mask& mask);
 
-/// Mean of angular_error_map over the mask, degrees. Throws InvalidArgument for an empty mask.
+/// Mean of angular_error_map over the masked pixels where both fields have a normal (a zero vector
+/// has none), degrees. Throws InvalidArgument when no pixel is left.
 double mean_angular_error(const NormalMap& a, const NormalMap& b, const Mask& mask);
 
 /// The mask shrunk by `pixels` steps of 4-neighbour erosion (pixels on the image border erode too).
