@@ -1,6 +1,8 @@
 """Turning pixel buffers from elsewhere (Blender's images, arrays) into the core's linear input.
 
-No ``bpy`` here: the add-on hands over plain arrays, so all of this is tested outside Blender.
+No ``bpy`` here: the add-on hands over plain arrays, so all of this is tested outside Blender. The
+rules themselves (sRGB decoding, luminance, block averaging) are the core's, shared with
+``shadecut.load_image`` and the graph cut's coarse levels.
 """
 
 from __future__ import annotations
@@ -9,15 +11,15 @@ import math
 
 import numpy as np
 
-REC709_LUMINANCE = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
+from . import _core
+
+# A working-size pixel lies in the mask when at least this share of its block does.
+MASK_COVERAGE = 0.5
 
 
-def srgb_to_linear(encoded: np.ndarray) -> np.ndarray:
-    """The sRGB transfer function inverted (IEC 61966-2-1), elementwise, float32."""
-    encoded = np.asarray(encoded, dtype=np.float32)
-    return np.where(
-        encoded <= 0.04045, encoded / 12.92, np.power((np.maximum(encoded, 0.04045) + 0.055) / 1.055, 2.4)
-    ).astype(np.float32)
+def srgb_to_linear(encoded) -> np.ndarray:
+    """The sRGB transfer function inverted (IEC 61966-2-1), elementwise."""
+    return np.asarray(_core.srgb_to_linear(np.asarray(encoded, dtype=float)), dtype=np.float32)
 
 
 def intensity_and_mask(rgba: np.ndarray, *, srgb_encoded: bool) -> tuple[np.ndarray, np.ndarray, bool]:
@@ -32,18 +34,16 @@ def intensity_and_mask(rgba: np.ndarray, *, srgb_encoded: bool) -> tuple[np.ndar
     rgba = np.asarray(rgba, dtype=np.float32)
     if rgba.ndim != 3 or rgba.shape[2] != 4:
         raise ValueError(f"expected an (H, W, 4) RGBA buffer, got shape {rgba.shape}")
-    rgb = srgb_to_linear(rgba[..., :3]) if srgb_encoded else rgba[..., :3]
-    intensity = np.ascontiguousarray(rgb @ REC709_LUMINANCE, dtype=np.float32)
-    alpha = rgba[..., 3]
-    has_alpha = bool((alpha < 1.0).any())
-    return intensity, alpha > 0.5, has_alpha
+    intensity, mask = _core.intensity_from_pixels(rgba, srgb_encoded, 3)
+    return intensity, mask, bool((rgba[..., 3] < 1.0).any())
 
 
 def downsample(image: np.ndarray, mask: np.ndarray, max_size: int) -> tuple[np.ndarray, np.ndarray, int]:
     """Shrinks an image by an integer factor until neither side exceeds ``max_size`` pixels.
 
     Each output pixel averages the masked pixels of its factor x factor block and is in the mask
-    when at least half of the block is. Trailing rows/columns that do not fill a block are dropped.
+    when at least half of the block is (0 elsewhere). Trailing rows/columns that do not fill a block
+    are dropped.
 
     Returns:
         image (h, w) float32, mask (h, w) bool, factor (1 = unchanged; 0 for max_size means no limit).
@@ -52,12 +52,8 @@ def downsample(image: np.ndarray, mask: np.ndarray, max_size: int) -> tuple[np.n
     if max_size <= 0 or max(height, width) <= max_size:
         return image, mask, 1
     factor = math.ceil(max(height, width) / max_size)
-    h, w = height // factor, width // factor
-    if h < 2 or w < 2:
+    if height // factor < 2 or width // factor < 2:
         raise ValueError(f"a working size of {max_size} px leaves fewer than 2 x 2 pixels of the {width} x {height} image")
-    blocks = (h, factor, w, factor)
-    weights = mask[: h * factor, : w * factor].astype(np.float32).reshape(blocks)
-    values = image[: h * factor, : w * factor].reshape(blocks) * weights
-    count = weights.sum(axis=(1, 3))
-    small = np.where(count > 0, values.sum(axis=(1, 3)) / np.maximum(count, 1), 0).astype(np.float32)
-    return small, count >= factor * factor / 2, factor
+    small, small_mask = _core.downsample(np.asarray(image, dtype=np.float32), np.asarray(mask, dtype=bool), factor,
+                                         MASK_COVERAGE)
+    return small, small_mask, factor

@@ -4,10 +4,12 @@
 #include "bind_reconstruct.hpp"
 
 #include <shadecut/angular_error.hpp>
+#include <shadecut/downsample.hpp>
 #include <shadecut/errors.hpp>
 #include <shadecut/estimate_light.hpp>
 #include <shadecut/image_io.hpp>
 #include <shadecut/integrate.hpp>
+#include <shadecut/intensity.hpp>
 #include <shadecut/mask_components.hpp>
 #include <shadecut/reconstruct.hpp>
 #include <shadecut/render.hpp>
@@ -98,6 +100,21 @@ PYBIND11_MODULE(_core, m) {
     std::copy_n(components.labels.data(), components.labels.size(), labels.mutable_data());
     return py::make_tuple(labels, components.count);
   });
+
+  m.def("downsample", [](const FloatArray& image, const BoolArray& mask, int factor, double min_coverage) {
+    const shadecut::Downsampled small = shadecut::downsample(to_image(image, "image"), *to_mask(mask), factor, min_coverage);
+    return py::make_tuple(from_image(small.image), from_mask(small.mask));
+  });
+
+  m.def("intensity_from_pixels", [](const FloatArray& pixels, bool srgb, std::optional<int> alpha) {
+    if (pixels.ndim() != 3) throw shadecut::InvalidArgument("shadecut: pixels must be an (H, W, channels) array");
+    const int channels = int(pixels.shape(2));
+    const shadecut::Intensity decoded = shadecut::intensity_from_pixels(
+        pixels.data(), int(pixels.shape(0)), int(pixels.shape(1)), channels, alpha.value_or(shadecut::default_alpha_channel(channels)), srgb);
+    return py::make_tuple(from_image(decoded.intensity), from_mask(decoded.mask));
+  });
+
+  m.def("srgb_to_linear", py::vectorize([](double encoded) { return shadecut::srgb_to_linear(encoded); }));
 
   m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });
 

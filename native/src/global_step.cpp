@@ -1,6 +1,7 @@
 #include <shadecut/global_step.hpp>
 
 #include <shadecut/convexity_cut.hpp>
+#include <shadecut/downsample.hpp>
 
 #include "stopwatch.hpp"
 
@@ -49,9 +50,8 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   int coarse_moves = 0, coarse_accepted = 0, coarse_repaired = 0, coarse_levels = 0;
   double coarse_seconds = 0.0;
   if (params.band >= 0 && object_size(mask) >= 2.0 * params.coarsest_object_size) {
-    ImageF half_image;
-    Mask half_mask;
-    halve_resolution(image, mask, half_image, half_mask);
+    // A coarse pixel lies in the mask only when its whole block does.
+    const auto [half_image, half_mask] = downsample(image, mask, 2, 1.0);
     if (half_mask.any()) {
       GlobalStepResult coarse;
       solve_level(half_image, half_mask, light, albedo, params, solver, progress.range(0.0, kCoarseShare), coarse);
@@ -103,19 +103,6 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
 }
 
 }  // namespace
-
-void halve_resolution(const ImageF& image, const Mask& mask, ImageF& half_image, Mask& half_mask) {
-  const Eigen::Index rows = image.rows() / 2, cols = image.cols() / 2;
-  half_image = ImageF::Zero(rows, cols);
-  half_mask = Mask::Constant(rows, cols, false);
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    for (Eigen::Index c = 0; c < cols; ++c) {
-      if (!mask.block(2 * r, 2 * c, 2, 2).all()) continue;
-      half_mask(r, c) = true;
-      half_image(r, c) = 0.25f * image.block(2 * r, 2 * c, 2, 2).sum();
-    }
-  }
-}
 
 GlobalStepResult global_step(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
                              const GlobalStepParams& params, MaxFlowSolver& solver, const Progress& progress) {

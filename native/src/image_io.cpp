@@ -1,5 +1,6 @@
 #include <shadecut/errors.hpp>
 #include <shadecut/image_io.hpp>
+#include <shadecut/intensity.hpp>
 
 #include <OpenImageIO/imageio.h>
 
@@ -33,15 +34,6 @@ std::string extension_of(const std::string& path) {
 bool stores_floats(const std::string& path) {
   const std::string extension = extension_of(path);
   return extension == ".exr" || extension == ".tif" || extension == ".tiff";
-}
-
-// The exact piecewise sRGB transfer functions (IEC 61966-2-1), not the 2.2 power approximation.
-double srgb_to_linear(double encoded) {
-  return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
-}
-
-double linear_to_srgb(double linear) {
-  return linear <= 0.0031308 ? linear * 12.92 : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
 
 // Clamps to [0, 1] and scales to the integer range; NaN becomes 0 rather than undefined behaviour.
@@ -155,32 +147,15 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space) {
   }
 
   int alpha = channels > 1 ? spec.alpha_channel : -1;
-  if (alpha < 0 || alpha >= channels) alpha = channels == 2 ? 1 : channels == 4 ? 3 : -1;
-  std::vector<int> colour;
-  for (int channel = 0; channel < channels && colour.size() < 3; ++channel) {
-    if (channel != alpha) colour.push_back(channel);
-  }
-
+  if (alpha < 0 || alpha >= channels) alpha = default_alpha_channel(channels);
   const bool srgb = decode_as_srgb(color_space, spec);
-  auto linear = [srgb](float stored) { return srgb ? srgb_to_linear(stored) : double(stored); };
+  Intensity decoded = intensity_from_pixels(pixels.data(), spec.height, spec.width, channels, alpha, srgb);
 
   LoadedImage loaded;
-  loaded.intensity.resize(spec.height, spec.width);
-  loaded.mask = Mask::Constant(spec.height, spec.width, true);
+  loaded.intensity = std::move(decoded.intensity);
+  loaded.mask = std::move(decoded.mask);
   loaded.has_alpha = alpha >= 0;
   loaded.color_space = srgb ? "srgb" : "linear";
-  float* intensity = loaded.intensity.data();
-  bool* inside = loaded.mask.data();
-  for (std::size_t i = 0; i < pixel_count; ++i) {
-    const float* pixel = &pixels[i * std::size_t(channels)];
-    if (colour.size() == 3) {
-      intensity[i] = float(0.2126 * linear(pixel[colour[0]]) + 0.7152 * linear(pixel[colour[1]]) +
-                           0.0722 * linear(pixel[colour[2]]));
-    } else {
-      intensity[i] = float(linear(pixel[colour[0]]));
-    }
-    if (alpha >= 0) inside[i] = pixel[alpha] > 0.5f;
-  }
   return loaded;
 }
 

@@ -21,23 +21,6 @@ int circular_steps(int a, int b, int labels) {
   return std::min(d, labels - d);
 }
 
-TEST(GlobalStep, HalvingAveragesWholeBlocksOnly) {
-  ImageF image(5, 4);
-  for (int r = 0; r < 5; ++r)
-    for (int c = 0; c < 4; ++c) image(r, c) = float(r * 4 + c);
-  Mask mask = Mask::Constant(5, 4, true);
-  mask(0, 3) = false;
-  ImageF half_image;
-  Mask half_mask;
-  halve_resolution(image, mask, half_image, half_mask);
-  ASSERT_EQ(half_image.rows(), 2);  // the odd last row is dropped
-  ASSERT_EQ(half_image.cols(), 2);
-  EXPECT_TRUE(half_mask(0, 0));
-  EXPECT_FALSE(half_mask(0, 1));  // one of its four pixels is outside the mask
-  EXPECT_FLOAT_EQ(half_image(0, 0), (0 + 1 + 4 + 5) / 4.0f);
-  EXPECT_FLOAT_EQ(half_image(1, 1), (10 + 11 + 14 + 15) / 4.0f);
-}
-
 TEST(GlobalStep, BandKeepsOnlyLabelsNearTheCentreUnlessNoneIsAllowed) {
   const Eigen::Vector3d light(1, 0, 1);
   const testing::Scene scene = testing::sphere_scene(64, 0.45, light);

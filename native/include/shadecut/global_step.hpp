@@ -41,11 +41,6 @@ struct GlobalStepResult {
   std::map<std::string, double> seconds;  ///< "local", "energy", "graphcut" (cuts), summed over levels
 };
 
-/// Image and mask at half resolution: pixel (i, j) stands for the 2 x 2 block at (2i, 2j), lies in
-/// the mask when the whole block does and holds the block's mean intensity. An odd last row or
-/// column is dropped.
-void halve_resolution(const ImageF& image, const Mask& mask, ImageF& half_image, Mask& half_mask);
-
 /// Labels every masked pixel of `image` with a tilt label of the energy built from it (see
 /// TiltEnergy): local_shape, then for DataTerm::Soft and TwoCandidates alike the convexity cut and
 /// alpha-expansion from the convex labelling; coarse to fine when params.band >= 0 (see
