@@ -198,6 +198,18 @@ def save_normals(path: str | os.PathLike, normals, mask=None) -> None:
     _core.save_normals(os.fspath(path), np.asarray(normals), _mask(mask))
 
 
+def height_field_mesh(depth, mask=None, step: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The mesh of a height field sampled every ``step`` pixels, the one :func:`save_mesh` writes.
+
+    Returns:
+        vertices (V, 3) float32 at (column, -row, depth) in pixel units, one per sampled masked
+        pixel in raster order; quads (F, 4) int32 joining four sampled masked neighbours, corners
+        top-left, bottom-left, bottom-right, top-right (counter-clockwise seen from +z); uvs (V, 2)
+        float32, each vertex's pixel centre in the image with v up.
+    """
+    return _core.height_field_mesh(np.asarray(depth), _mask(mask), int(step))
+
+
 def save_mesh(path: str | os.PathLike, depth, mask=None) -> None:
     """Writes the height field as a .ply or .obj triangle mesh, vertices at (column, -row, depth)."""
     _core.save_mesh(os.fspath(path), np.asarray(depth), _mask(mask))

@@ -8,6 +8,7 @@
 #include <shadecut/errors.hpp>
 #include <shadecut/estimate_light.hpp>
 #include <shadecut/image_io.hpp>
+#include <shadecut/height_field_mesh.hpp>
 #include <shadecut/integrate.hpp>
 #include <shadecut/intensity.hpp>
 #include <shadecut/mask_components.hpp>
@@ -115,6 +116,14 @@ PYBIND11_MODULE(_core, m) {
   });
 
   m.def("srgb_to_linear", py::vectorize([](double encoded) { return shadecut::srgb_to_linear(encoded); }));
+
+  m.def("height_field_mesh", [](const FloatArray& depth, const std::optional<BoolArray>& mask, int step) {
+    const ImageF z = to_image(depth, "depth map");
+    const shadecut::HeightFieldMesh mesh = shadecut::height_field_mesh(z, mask_or_all(mask, z.rows(), z.cols()), step);
+    return py::make_tuple(py::array_t<float>({mesh.vertices.rows(), Eigen::Index(3)}, mesh.vertices.data()),
+                          py::array_t<std::int32_t>({mesh.quads.rows(), Eigen::Index(4)}, mesh.quads.data()),
+                          py::array_t<float>({mesh.uvs.rows(), Eigen::Index(2)}, mesh.uvs.data()));
+  });
 
   m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });
 

@@ -1,4 +1,5 @@
 #include <shadecut/errors.hpp>
+#include <shadecut/height_field_mesh.hpp>
 #include <shadecut/image_io.hpp>
 #include <shadecut/intensity.hpp>
 
@@ -266,31 +267,17 @@ void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
   }
   require_image("save_mesh", depth.rows(), depth.cols());
   require_mask_shape("save_mesh", mask, depth.rows(), depth.cols());
-  const int rows = int(depth.rows());
-  const int cols = int(depth.cols());
-
-  constexpr std::int32_t kNoVertex = -1;
-  std::vector<std::int32_t> vertex_of(std::size_t(rows) * cols, kNoVertex);
-  std::int32_t vertex_count = 0;
-  for (std::size_t i = 0; i < vertex_of.size(); ++i) {
-    if (mask.data()[i]) vertex_of[i] = vertex_count++;
-  }
-
-  // In the camera frame row r + 1 lies below row r (y = -r), so going top-left -> bottom-left ->
-  // top-right turns counter-clockwise as seen from +z, and the normals face the viewer.
+  const HeightFieldMesh mesh = height_field_mesh(depth, mask);
+  // Each quad (top-left a, bottom-left d, bottom-right e, top-right b) becomes the triangles a d b
+  // and b d e, which keep its counter-clockwise turn as seen from +z.
   std::vector<Triangle> triangles;
-  for (int r = 0; r + 1 < rows; ++r) {
-    for (int c = 0; c + 1 < cols; ++c) {
-      const std::size_t top_left = std::size_t(r) * cols + c;
-      const std::int32_t a = vertex_of[top_left];
-      const std::int32_t b = vertex_of[top_left + 1];
-      const std::int32_t d = vertex_of[top_left + cols];
-      const std::int32_t e = vertex_of[top_left + cols + 1];
-      if (a == kNoVertex || b == kNoVertex || d == kNoVertex || e == kNoVertex) continue;
-      triangles.push_back({a, d, b});
-      triangles.push_back({b, d, e});
-    }
+  triangles.reserve(std::size_t(mesh.quads.rows()) * 2);
+  for (Eigen::Index q = 0; q < mesh.quads.rows(); ++q) {
+    const auto quad = mesh.quads.row(q);
+    triangles.push_back({quad(0), quad(1), quad(3)});
+    triangles.push_back({quad(3), quad(1), quad(2)});
   }
+  const Eigen::Index vertex_count = mesh.vertices.rows();
 
   std::ofstream file(path, std::ios::binary);
   if (!file) throw IoError("cannot write mesh \"" + path + "\": " + std::strerror(errno));
@@ -304,14 +291,8 @@ void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
             "element face " + std::to_string(triangles.size()) +
             "\nproperty list uchar int vertex_indices\nend_header\n";
     bytes.reserve(bytes.size() + std::size_t(vertex_count) * 12 + triangles.size() * 13);
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) {
-        if (!mask(r, c)) continue;
-        append_f32_le(bytes, float(c));
-        append_f32_le(bytes, float(-r));
-        append_f32_le(bytes, depth(r, c));
-      }
-    }
+    for (Eigen::Index v = 0; v < vertex_count; ++v)
+      for (int axis = 0; axis < 3; ++axis) append_f32_le(bytes, mesh.vertices(v, axis));
     for (const Triangle& triangle : triangles) {
       bytes.push_back(char(3));
       append_u32_le(bytes, std::uint32_t(triangle.a));
@@ -321,12 +302,10 @@ void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
   } else {
     bytes = "# ShadeCut height field; camera frame: x right, y up, z toward the viewer, pixel units\n";
     char line[96];
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) {
-        if (!mask(r, c)) continue;
-        // %.9g prints every float exactly enough to read back the same value.
-        bytes.append(line, std::size_t(std::snprintf(line, sizeof line, "v %d %d %.9g\n", c, -r, double(depth(r, c)))));
-      }
+    for (Eigen::Index v = 0; v < vertex_count; ++v) {
+      // %.9g prints every float exactly enough to read back the same value.
+      bytes.append(line, std::size_t(std::snprintf(line, sizeof line, "v %d %d %.9g\n", int(mesh.vertices(v, 0)),
+                                                   int(mesh.vertices(v, 1)), double(mesh.vertices(v, 2)))));
     }
     for (const Triangle& triangle : triangles) {
       bytes.append(line, std::size_t(std::snprintf(line, sizeof line, "f %d %d %d\n", triangle.a + 1, triangle.b + 1,
