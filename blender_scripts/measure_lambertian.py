@@ -9,7 +9,6 @@ Prints the figures of the README's "Synthetic renders and datasets" section.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import sys
 import time
 from pathlib import Path
@@ -17,20 +16,16 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-if str(REPO / "addon") not in sys.path:
-    sys.path.insert(0, str(REPO / "addon"))
+for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; shapes.py, make_dataset.py
+    if _path not in sys.path:
+        sys.path.insert(0, _path)
 
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
+import shapes  # noqa: E402
+from make_dataset import quiet_stdout  # noqa: E402
 from shadecut.blender import lambertian  # noqa: E402
 
 LIGHT = (1.0, 0.5, 1.0)
-
-
-def make_dataset_module():
-    spec = importlib.util.spec_from_file_location("make_dataset", REPO / "blender_scripts" / "make_dataset.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def timed_render(objects, **kwargs):
@@ -62,20 +57,19 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--size", type=int, default=256)
     parser.add_argument("--no-indirect", action="store_true", help="skip the (slow) indirect-light noise table")
     args = parser.parse_args(argv)
-    make_dataset = make_dataset_module()
     resolution = (args.size, args.size)
 
     print(f"| shape ({args.size} px) | render s | mean abs vs shadecut.render (mask eroded 2 px) |")
     print("|---|---|---|")
-    for name in make_dataset.CATALOGUE:
-        objects = make_dataset.BUILDERS[name](0)
-        with make_dataset.quiet_stdout(True):
+    for name in shapes.CATALOGUE:
+        objects = shapes.BUILDERS[name](0)
+        with quiet_stdout(True):
             timed_render(objects, light=LIGHT, resolution=(16, 16))  # Cycles' first start is slower
             render, seconds = timed_render(objects, light=LIGHT, resolution=resolution)
         print(f"| {name} | {seconds:.2f} | {agreement(render):.2e} |")
         if name == "sphere":
             sphere = render
-        make_dataset.remove_objects(objects)
+        shapes.remove_objects(objects)
 
     normals, z = sphere_truth(sphere)
     inside = shadecut.erode_mask(sphere.mask, 2)
@@ -87,9 +81,9 @@ def main(argv: list[str]) -> int:
 
     if args.no_indirect:
         return 0
-    objects = make_dataset.BUILDERS["suzanne"](0)
+    objects = shapes.BUILDERS["suzanne"](0)
     kwargs = dict(light=(0.5, 0.3, 1.0), resolution=(64, 64), indirect=True)
-    with make_dataset.quiet_stdout(True):
+    with quiet_stdout(True):
         reference, _ = timed_render(objects, samples=8192, **kwargs)
         direct, _ = timed_render(objects, light=(0.5, 0.3, 1.0), resolution=(64, 64))
     inside = shadecut.erode_mask(reference.mask, 2)
@@ -98,12 +92,12 @@ def main(argv: list[str]) -> int:
     print("| samples | seconds | rms difference to 8192 samples | mean abs |")
     print("|---|---|---|---|")
     for samples in (64, 256, 512, 1024):
-        with make_dataset.quiet_stdout(True):
+        with quiet_stdout(True):
             render, seconds = timed_render(objects, samples=samples, **kwargs)
         difference = (render.clean_image - reference.clean_image)[inside]
         rms, mean = np.sqrt(np.mean(difference**2)), np.abs(difference).mean()
         print(f"| {samples} | {seconds:.2f} | {rms:.4f} | {mean:.4f} |")
-    make_dataset.remove_objects(objects)
+    shapes.remove_objects(objects)
     return 0
 
 

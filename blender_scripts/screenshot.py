@@ -17,9 +17,10 @@ from mathutils import Euler, Vector
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "addon"))
+sys.path.insert(0, str(REPO / "tests" / "blender"))  # timers.py, the UI-scripting helper of the tests
 import shadecut  # noqa: E402
 from shadecut import synthetic  # noqa: E402
-from shadecut.blender.timers import run_steps_then_exit  # noqa: E402
+from timers import run_steps_then_exit  # noqa: E402
 
 LIGHT = (1.0, 0.0, 1.0)
 OUTPUT = Path(sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else "docs/addon_screenshot.png").resolve()

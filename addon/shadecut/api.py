@@ -74,6 +74,15 @@ def _vector3(light: Sequence[float]) -> list[float]:
     return vector.tolist()
 
 
+def light_direction(light: Sequence[float]) -> np.ndarray:
+    """``light`` as the unit vector every layer uses: (3,) float64, camera frame.
+
+    Raises ValueError for a vector that is not 3 finite numbers, is zero, or lies at or below the
+    image's horizon (S_z <= 0): shape from shading needs light from the viewer's side.
+    """
+    return _core.light_direction(_vector3(light))
+
+
 def reconstruct(
     image,
     light: Optional[Sequence[float]] = None,

@@ -41,7 +41,7 @@ from typing import Optional
 import numpy as np
 import OpenImageIO as oiio
 
-from .api import load_image, save_depth, save_image, save_normals
+from .api import light_direction, load_image, save_depth, save_image, save_normals
 
 FORMAT = "shadecut-dataset"
 VERSION = 1
@@ -123,17 +123,6 @@ def _json_ready(value):
     return value
 
 
-def unit_light(light) -> np.ndarray:
-    """``light`` as a unit 3-vector; ValueError for anything else (wrong length, not finite, zero)."""
-    vector = np.asarray(light, dtype=np.float64).reshape(-1)
-    if vector.shape != (3,) or not np.all(np.isfinite(vector)):
-        raise ValueError(f"shadecut: the light must be 3 finite numbers; got {light!r}")
-    length = np.linalg.norm(vector)
-    if length == 0:
-        raise ValueError("shadecut: the light vector is zero")
-    return vector / length
-
-
 def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: dict,
                  shadow_mask=None, albedo_map=None) -> None:
     """Writes one sample folder (see the module docstring) atomically.
@@ -170,7 +159,7 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
         format=FORMAT,
         version=VERSION,
         id=meta.get("id", folder.name),
-        light=unit_light(light).tolist(),
+        light=light_direction(light).tolist(),
         albedo=float(albedo),
         resolution=[shape[1], shape[0]],
         conventions=CONVENTIONS,
@@ -235,7 +224,7 @@ def load_sample(folder) -> Sample:
         normals=np.where(mask[..., None], normals, 0).astype(np.float32),
         depth=depth,
         mask=mask,
-        light=unit_light(meta["light"]),
+        light=light_direction(meta["light"]),
         albedo=float(meta["albedo"]),
         meta=meta,
         shadow_mask=_read_channels(shadow_path)[..., 0] > 0.5 if shadow_path.is_file() else None,

@@ -10,6 +10,7 @@
 #include <shadecut/image_io.hpp>
 #include <shadecut/height_field_mesh.hpp>
 #include <shadecut/integrate.hpp>
+#include <shadecut/light.hpp>
 #include <shadecut/intensity.hpp>
 #include <shadecut/mask_components.hpp>
 #include <shadecut/reconstruct.hpp>
@@ -123,6 +124,11 @@ PYBIND11_MODULE(_core, m) {
     return py::make_tuple(py::array_t<float>({mesh.vertices.rows(), Eigen::Index(3)}, mesh.vertices.data()),
                           py::array_t<std::int32_t>({mesh.quads.rows(), Eigen::Index(4)}, mesh.quads.data()),
                           py::array_t<float>({mesh.uvs.rows(), Eigen::Index(2)}, mesh.uvs.data()));
+  });
+
+  m.def("light_direction", [](const std::vector<double>& light) {
+    const Eigen::Vector3d direction = shadecut::LightFrame::from_direction(to_vector3(light, "light")).direction;
+    return py::array_t<double>(3, direction.data());
   });
 
   m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });

@@ -9,10 +9,11 @@ namespace shadecut {
 
 LightFrame LightFrame::from_direction(const Eigen::Vector3d& light) {
   if (!light.allFinite()) throw InvalidArgument("shadecut: the light direction has a NaN or infinite component");
-  const double length = light.norm();
-  if (!(length > 1e-12)) throw InvalidArgument("shadecut: the light direction is the zero vector");
+  // Scaled by its largest component first, so that a very long vector's norm does not overflow.
+  const double largest = light.cwiseAbs().maxCoeff();
+  if (!(largest > 1e-300)) throw InvalidArgument("shadecut: the light direction is the zero vector");
   LightFrame frame;
-  frame.direction = light / length;
+  frame.direction = (light / largest).normalized();
   // A light at or below the horizon leaves part of every visible hemisphere unlit and the slant
   // formula undefined; the paper's model needs S_z > 0.
   if (frame.direction.z() <= 1e-6)

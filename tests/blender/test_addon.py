@@ -9,7 +9,7 @@ from mathutils import Euler, Vector
 
 import shadecut
 from shadecut import synthetic
-from shadecut.blender import frames, operators
+from shadecut.blender import frames, reconstruct_operator
 
 LIGHT = (1.0, 0.0, 1.0)
 
@@ -63,7 +63,7 @@ def test_reconstruct_builds_the_core_surface(addon, sphere_png):
     objects_before = set(bpy.data.objects)
 
     # The core run on exactly the arrays the operator hands over.
-    job = operators.prepare_job(bpy.context)
+    job = reconstruct_operator.prepare_job(bpy.context)
     np.testing.assert_allclose(job.light, np.array(LIGHT) / math.sqrt(2), atol=1e-6)
     core = shadecut.reconstruct(job.image, job.light, job.mask, method="graphcut")
 
@@ -147,7 +147,7 @@ def test_max_resolution_downsamples(addon, sphere_png):
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
     settings.max_resolution = 48
-    job = operators.prepare_job(bpy.context)
+    job = reconstruct_operator.prepare_job(bpy.context)
     assert job.image.shape == (48, 48)
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
     assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(job.mask)
@@ -167,7 +167,7 @@ def test_blender_pixels_are_the_linear_values_load_image_reads(addon, tmp_path, 
     else:
         shadecut.save_image(path, scene.image, scene.mask)
     loaded = shadecut.load_image(path)
-    intensity, mask = operators.image_pixels(bpy.data.images.load(str(path)))
+    intensity, mask = reconstruct_operator.image_pixels(bpy.data.images.load(str(path)))
     np.testing.assert_allclose(intensity, loaded.image, atol=2e-4)
     np.testing.assert_array_equal(mask, loaded.mask)
 
@@ -196,7 +196,7 @@ def test_sun_direction_in_a_camera_frame(addon, camera_rotation):
     settings = bpy.context.scene.shadecut
     settings.light_object, settings.frame = sun, "CAMERA"
     bpy.context.scene.camera = camera
-    light = operators._light(bpy.context, settings)
+    light = reconstruct_operator._light(bpy.context, settings)
     if expected[2] > 0:
         np.testing.assert_allclose(light, expected, atol=1e-6)
 
@@ -232,10 +232,10 @@ def _error_setup(case, sphere_png, tmp_path):
     ("no image", "No image"),
     ("no pixels", "has no pixels"),
     ("dark", "is black"),
-    ("horizon", "at or below the image's horizon"),
+    ("horizon", "at or below the horizon"),
     ("not a sun", "point light"),
     ("no camera", "No camera"),
-    ("sun below", "at or below the image's horizon"),
+    ("sun below", "at or below the horizon"),
 ])
 def test_errors_are_reports_and_leave_the_scene_alone(addon, sphere_png, tmp_path, case, message):
     _error_setup(case, sphere_png, tmp_path)
@@ -250,7 +250,7 @@ def test_cancelling_leaves_nothing_behind(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    job = operators.prepare_job(bpy.context)
+    job = reconstruct_operator.prepare_job(bpy.context)
     job.cancel = True  # what Esc sets while the worker thread runs
     job.run()
     assert isinstance(job.error, shadecut.Cancelled)
@@ -261,7 +261,7 @@ def test_cancelling_leaves_nothing_behind(addon, sphere_png):
             self.last = (kind, message)
 
     reports = Reports()
-    assert operators.finish_job(reports, bpy.context, job) == {"CANCELLED"}
+    assert reconstruct_operator.finish_job(reports, bpy.context, job) == {"CANCELLED"}
     assert "cancelled" in reports.last[1]
     assert scene_state() == before
 
@@ -273,7 +273,7 @@ def test_the_worker_thread_gives_the_synchronous_result(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    threaded, direct = operators.prepare_job(bpy.context), operators.prepare_job(bpy.context)
+    threaded, direct = reconstruct_operator.prepare_job(bpy.context), reconstruct_operator.prepare_job(bpy.context)
     worker = threading.Thread(target=threaded.run)
     worker.start()
     worker.join()
@@ -294,7 +294,7 @@ def test_estimated_light_reconstructs_the_sphere(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source = "ESTIMATE"
-    job = operators.prepare_job(bpy.context)
+    job = reconstruct_operator.prepare_job(bpy.context)
     assert job.light is None and job.albedo is None
     job.run()
     angle = math.degrees(math.acos(np.dot(job.result.light, np.array(LIGHT) / math.sqrt(2))))

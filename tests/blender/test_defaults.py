@@ -5,7 +5,7 @@ import pytest
 
 import shadecut
 from shadecut.blender.preferences import ShadeCutPreferences
-from shadecut.blender.properties import ShadeCutSettings
+from shadecut.blender.properties import ShadeCutReconstructSettings
 
 DEFAULTS = shadecut.ReconstructOptions()
 
@@ -25,8 +25,8 @@ def test_panel_and_preferences_defaults_equal_the_bound_defaults(settings):
     assert settings.labels == DEFAULTS.labels
     assert settings.data_weight == pytest.approx(DEFAULTS.data_weight)
     assert settings.integrator == DEFAULTS.integrator.name
-    assert property_of(ShadeCutSettings, "labels").hard_min == shadecut.MIN_LABELS
-    assert {item.identifier for item in property_of(ShadeCutSettings, "integrator").enum_items} == set(
+    assert property_of(ShadeCutReconstructSettings, "labels").hard_min == shadecut.MIN_LABELS
+    assert {item.identifier for item in property_of(ShadeCutReconstructSettings, "integrator").enum_items} == set(
         shadecut.Integrator.__members__)
     assert property_of(ShadeCutPreferences, "default_method").default == DEFAULTS.method.name
     assert property_of(ShadeCutPreferences, "threads").default == DEFAULTS.threads

@@ -11,7 +11,7 @@ from mathutils import Vector
 
 import shadecut
 from shadecut import dataset
-from shadecut.blender import lambertian, render_operator
+from shadecut.blender import lambertian, panels
 
 CENTRE = Vector((0.3, 0.2, -0.1))
 LIGHT = (1.0, 0.5, 1.0)
@@ -325,5 +325,5 @@ def test_draw_function_draws(operator_registered):
             return record
 
     layout = Recorder()
-    render_operator.draw_render_settings(layout, bpy.context)
+    panels.draw_render_settings(layout, bpy.context.scene.shadecut_render)
     assert ("operator", ("shadecut.render_lambertian",), {"icon": "RENDER_STILL"}) in layout.calls

@@ -4,7 +4,7 @@
 
 Checks that the reconstruction runs on a worker thread while Blender keeps handling events, that
 one undo step removes the result, and that Esc cancels cleanly. Blender's exit code is the result:
-shadecut.blender.timers ends the process with the script's outcome.
+timers.py (next to this script) ends the process with the script's outcome.
 """
 
 import sys
@@ -16,10 +16,11 @@ from pathlib import Path
 import bpy
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # timers.py
 import shadecut  # noqa: E402
 from shadecut import synthetic  # noqa: E402
-from shadecut.blender import operators  # noqa: E402
-from shadecut.blender.timers import run_steps_then_exit  # noqa: E402
+from shadecut.blender import reconstruct_operator  # noqa: E402
+from timers import run_steps_then_exit  # noqa: E402
 
 LIGHT = (1.0, 0.0, 1.0)
 state = {"ticks": 0, "fractions": []}
@@ -37,7 +38,7 @@ def meshes():
 
 
 def record_progress():
-    original = operators.Job.progress
+    original = reconstruct_operator.Job.progress
 
     def progress(job, fraction, stage):
         state["fractions"].append(fraction)
@@ -48,7 +49,7 @@ def record_progress():
             time.sleep(0.01)
         return original(job, fraction, stage)
 
-    operators.Job.progress = progress
+    reconstruct_operator.Job.progress = progress
 
 
 def steps():

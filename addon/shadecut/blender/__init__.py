@@ -1,21 +1,28 @@
 """The Blender side of ShadeCut: operators, panels and helpers that need ``bpy``.
 
 Nothing outside this subpackage imports it, so ``import shadecut`` keeps working without Blender.
+The modules: one per operator (``reconstruct_operator``, ``render_operator``), their settings on
+the scene (``properties``), the sidebar (``panels``), the add-on's ``preferences``, and the helpers
+the operators use (``frames``, ``lambertian``, ``mesh``, ``result``). Every class is registered
+from :data:`CLASSES` below.
 """
 
 import bpy
 
-from . import render_operator
-from .operators import SHADECUT_OT_reconstruct
 from .panels import SHADECUT_PT_reconstruct_image, SHADECUT_PT_reconstruct_view3d, SHADECUT_PT_render_view3d
 from .preferences import ShadeCutPreferences
-from .properties import ShadeCutSettings
+from .properties import ShadeCutReconstructSettings, ShadeCutRenderSettings
+from .reconstruct_operator import SHADECUT_OT_reconstruct
+from .render_operator import SHADECUT_OT_render_lambertian
 
+# In registration order: the PropertyGroups before the pointers to them, the operators before the
+# panels that show their buttons.
 CLASSES = (
     ShadeCutPreferences,
-    ShadeCutSettings,
-    *render_operator.CLASSES,
+    ShadeCutReconstructSettings,
+    ShadeCutRenderSettings,
     SHADECUT_OT_reconstruct,
+    SHADECUT_OT_render_lambertian,
     SHADECUT_PT_reconstruct_view3d,
     SHADECUT_PT_reconstruct_image,
     SHADECUT_PT_render_view3d,
@@ -25,8 +32,8 @@ CLASSES = (
 def register() -> None:
     for cls in CLASSES:
         bpy.utils.register_class(cls)
-    bpy.types.Scene.shadecut = bpy.props.PointerProperty(type=ShadeCutSettings)
-    bpy.types.Scene.shadecut_render = bpy.props.PointerProperty(type=render_operator.ShadeCutRenderSettings)
+    bpy.types.Scene.shadecut = bpy.props.PointerProperty(type=ShadeCutReconstructSettings)
+    bpy.types.Scene.shadecut_render = bpy.props.PointerProperty(type=ShadeCutRenderSettings)
 
 
 def unregister() -> None:

@@ -31,6 +31,7 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 from .. import dataset
+from ..api import light_direction
 from . import frames
 
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])  # Rec. 709, Blender's scene-linear primaries
@@ -89,13 +90,10 @@ def camera_frame_light(light, camera_rotation: Matrix) -> np.ndarray:
         except frames.FrameError as error:
             raise RenderError(str(error)) from error
     try:
-        vector = dataset.unit_light(light)
+        return light_direction(light)
     except ValueError as error:
-        raise RenderError(str(error)) from error
-    if vector[2] <= 1e-6:
-        raise RenderError(f"the light ({', '.join(f'{v:.3f}' for v in vector)} in the camera frame) is at or "
-                          "below the horizon: it must come from the viewer's side (z > 0)")
-    return vector
+        raise RenderError(f"the light ({', '.join(f'{v:.3f}' for v in np.ravel(light))} in the camera frame): "
+                          f"{error}") from error
 
 
 def _fitted_ortho(objects, depsgraph, resolution, margin: float) -> tuple[Matrix, float, float, float]:
@@ -264,6 +262,47 @@ def render_lambertian(
     Raises RenderError for anything that makes the render impossible as asked.
     """
     objects = list(objects)
+    resolution = _check_request(objects, camera, resolution, albedo, bits, noise)
+    if samples is None:
+        samples = INDIRECT_SAMPLES if indirect else 1
+    if samples < 1:
+        raise RenderError(f"samples must be >= 1; got {samples}")
+    if frame is None:
+        frame = objects[0].users_scene[0].frame_current if objects[0].users_scene else 1
+
+    temporary = _Temporary()
+    scene = bpy.data.scenes.new("ShadeCut Lambertian")
+    with tempfile.TemporaryDirectory(prefix="shadecut_render_") as scratch:
+        try:
+            scene.frame_current = frame
+            for ob in objects:
+                scene.collection.objects.link(ob)
+            view_layer = scene.view_layers[0]
+            view_layer.update()  # a new scene has no depsgraph until its view layer is updated
+            camera_object = _set_camera(scene, objects, camera, resolution, margin, temporary)
+            view_layer.update()
+            camera_eval = camera_object.evaluated_get(view_layer.depsgraph)
+            camera_matrix = camera_eval.matrix_world.copy()
+            rotation = camera_matrix.to_3x3().normalized()
+            light_vector = camera_frame_light(light, rotation)
+            lens = _camera_info(camera_eval.data, resolution)
+            lens.update(fitted=camera is None, name=None if camera is None else camera.name)
+
+            _add_sun(scene, rotation @ Vector(light_vector), shadows, temporary)
+            _add_black_world(scene, temporary)
+            _set_materials(view_layer, objects, albedo, temporary)
+            output = Path(scratch) / "passes.exr"
+            _set_exact_cycles(scene, resolution, samples, indirect, output)
+            passes = _render_passes(scene, output)
+        finally:
+            temporary.remove(scene)
+
+    return _assemble(passes, light_vector, camera_matrix, lens, resolution, albedo, shadows, indirect, noise,
+                     bits, seed, samples, frame, [ob.name for ob in objects])
+
+
+def _check_request(objects, camera, resolution, albedo, bits, noise) -> tuple[int, int]:
+    """Raises RenderError for a request that cannot be rendered; returns (width, height) as ints."""
     if not objects:
         raise RenderError("no mesh object to render: select one, or add one to the scene")
     not_meshes = [ob.name for ob in objects if ob.type != "MESH"]
@@ -283,129 +322,7 @@ def render_lambertian(
         raise RenderError(f"the noise level must be >= 0; got {noise}")
     if camera is not None and camera.type != "CAMERA":
         raise RenderError(f"'{camera.name}' is not a camera")
-    if samples is None:
-        samples = INDIRECT_SAMPLES if indirect else 1
-    if samples < 1:
-        raise RenderError(f"samples must be >= 1; got {samples}")
-    if frame is None:
-        frame = objects[0].users_scene[0].frame_current if objects[0].users_scene else 1
-
-    created = []  # temporary data-blocks, removed in the finally clause
-    swapped_slots = []  # (material slot, original material) in own-colour mode
-    scene = bpy.data.scenes.new("ShadeCut Lambertian")
-    with tempfile.TemporaryDirectory(prefix="shadecut_render_") as scratch:
-        try:
-            scene.frame_current = frame
-            for ob in objects:
-                scene.collection.objects.link(ob)
-            view_layer = scene.view_layers[0]
-            view_layer.update()  # a new scene has no depsgraph until its view layer is updated
-            depsgraph = view_layer.depsgraph
-
-            if camera is None:
-                camera_data = bpy.data.cameras.new("ShadeCut camera")
-                created.append(camera_data)
-                camera_object = bpy.data.objects.new("ShadeCut camera", camera_data)
-                created.insert(0, camera_object)
-                camera_matrix, scale, clip_start, clip_end = _fitted_ortho(objects, depsgraph, (width, height),
-                                                                          margin)
-                camera_data.type = "ORTHO"
-                camera_data.ortho_scale = scale
-                camera_data.clip_start, camera_data.clip_end = clip_start, clip_end
-                camera_object.matrix_world = camera_matrix
-                scene.collection.objects.link(camera_object)
-            else:
-                camera_object = camera
-                scene.collection.objects.link(camera)
-            scene.camera = camera_object
-            view_layer.update()
-            camera_eval = camera_object.evaluated_get(depsgraph)
-            camera_matrix = camera_eval.matrix_world.copy()
-            rotation = camera_matrix.to_3x3().normalized()
-            light_vector = camera_frame_light(light, rotation)
-            lens = _camera_info(camera_eval.data, (width, height))
-            lens.update(fitted=camera is None, name=None if camera is None else camera.name)
-
-            sun_data = bpy.data.lights.new("ShadeCut sun", "SUN")
-            created.append(sun_data)
-            sun = bpy.data.objects.new("ShadeCut sun", sun_data)
-            created.insert(0, sun)
-            sun_data.energy = math.pi  # irradiance pi: a white Lambertian surface facing it has radiance 1
-            sun_data.angle = 0.0
-            sun_data.cycles.cast_shadow = shadows
-            sun.rotation_mode = "QUATERNION"
-            sun.rotation_quaternion = (rotation @ Vector(light_vector)).to_track_quat("Z", "Y")
-            scene.collection.objects.link(sun)
-
-            world = bpy.data.worlds.new("ShadeCut black")
-            created.append(world)
-            world.use_nodes = False
-            world.color = (0.0, 0.0, 0.0)
-            scene.world = world
-
-            if albedo is not None:
-                override = _diffuse_material("ShadeCut albedo", colour=(albedo, albedo, albedo, 1.0))
-                created.append(override)
-                view_layer.material_override = override
-            else:
-                stand_ins = {}
-                for ob in objects:
-                    for slot in ob.material_slots:
-                        if slot.material in stand_ins.values():
-                            continue  # a mesh shared with an object already done: its slot is swapped
-                        if slot.material not in stand_ins:
-                            stand_ins[slot.material] = _own_colour_material(slot.material)
-                            created.append(stand_ins[slot.material])
-                        swapped_slots.append((slot, slot.material))
-                        slot.material = stand_ins[slot.material]
-
-            render = scene.render
-            render.engine = "CYCLES"
-            render.resolution_x, render.resolution_y, render.resolution_percentage = width, height, 100
-            render.pixel_aspect_x = render.pixel_aspect_y = 1.0
-            render.film_transparent = True
-            render.use_border = False
-            render.use_compositing = False
-            render.use_sequencer = False
-            cycles = scene.cycles
-            cycles.device = "CPU"
-            cycles.samples = samples
-            cycles.use_adaptive_sampling = False
-            cycles.use_denoising = False
-            cycles.seed = 0
-            cycles.pixel_filter_type = "BOX"
-            cycles.filter_width = 0.01  # Cycles' minimum: every sample at the pixel centre
-            cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
-            bounces = INDIRECT_BOUNCES if indirect else 0
-            cycles.max_bounces = cycles.diffuse_bounces = bounces
-            cycles.glossy_bounces = cycles.transmission_bounces = cycles.volume_bounces = 0
-            cycles.caustics_reflective = cycles.caustics_refractive = False
-            view = scene.view_settings
-            scene.display_settings.display_device = "sRGB"
-            view.view_transform, view.look, view.exposure, view.gamma = "Standard", "None", 0.0, 1.0
-            view.use_curve_mapping = False
-            view_layer.cycles.use_denoising = False
-            for name in ("combined", "normal", "position", "diffuse_color", "diffuse_direct"):
-                setattr(view_layer, f"use_pass_{name}", True)
-            output = Path(scratch) / "passes.exr"
-            render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
-            render.image_settings.color_depth = "32"
-            render.image_settings.exr_codec = "ZIP"
-            render.filepath = str(output)
-
-            outcome = bpy.ops.render.render(scene=scene.name, write_still=True)
-            if "FINISHED" not in outcome or not output.is_file():
-                raise RenderError(f"Cycles did not finish the render ({', '.join(sorted(outcome))})")
-            passes = _read_passes(output)
-        finally:
-            for slot, material in reversed(swapped_slots):
-                slot.material = material
-            bpy.data.scenes.remove(scene)
-            for block in created:
-                getattr(bpy.data, _COLLECTION[type(block).__name__]).remove(block)
-
-    return _assemble(passes, light_vector, camera_matrix, lens, (width, height), albedo, shadows, indirect, noise,
-                     bits, seed, samples, frame, [ob.name for ob in objects])
+    return width, height
 
 
 # Which bpy.data collection removes a temporary data-block of each type.
@@ -413,52 +330,140 @@ _COLLECTION = {"Object": "objects", "Camera": "cameras", "SunLight": "lights", "
                "Material": "materials"}
 
 
+@dataclass
+class _Temporary:
+    """What a render adds to the file and changes in it, all undone by :meth:`remove`."""
+
+    blocks: list = field(default_factory=list)  # data-blocks, objects first (they use the others)
+    swapped_slots: list = field(default_factory=list)  # (material slot, original material), own colours
+
+    def add(self, block):
+        if isinstance(block, bpy.types.Object):
+            self.blocks.insert(0, block)
+        else:
+            self.blocks.append(block)
+        return block
+
+    def new_object(self, name: str, data) -> bpy.types.Object:
+        self.add(data)
+        return self.add(bpy.data.objects.new(name, data))
+
+    def remove(self, scene: bpy.types.Scene) -> None:
+        """Puts the swapped materials back and deletes the scene and every temporary data-block."""
+        for slot, material in reversed(self.swapped_slots):
+            slot.material = material
+        bpy.data.scenes.remove(scene)
+        for block in self.blocks:
+            getattr(bpy.data, _COLLECTION[type(block).__name__]).remove(block)
+
+
+def _set_camera(scene, objects, camera, resolution, margin: float, temporary: _Temporary) -> bpy.types.Object:
+    """Links the given camera, or a fitted orthographic one, to the scene as its camera."""
+    if camera is None:
+        camera = temporary.new_object("ShadeCut camera", bpy.data.cameras.new("ShadeCut camera"))
+        matrix, scale, clip_start, clip_end = _fitted_ortho(objects, scene.view_layers[0].depsgraph, resolution,
+                                                            margin)
+        camera.data.type = "ORTHO"
+        camera.data.ortho_scale = scale
+        camera.data.clip_start, camera.data.clip_end = clip_start, clip_end
+        camera.matrix_world = matrix
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    return camera
+
+
+def _add_sun(scene, direction: Vector, shadows: bool, temporary: _Temporary) -> None:
+    """A sun shining from ``direction`` (world frame) with irradiance pi and a point-like disc."""
+    sun = temporary.new_object("ShadeCut sun", bpy.data.lights.new("ShadeCut sun", "SUN"))
+    sun.data.energy = math.pi  # irradiance pi: a white Lambertian surface facing it has radiance 1
+    sun.data.angle = 0.0
+    sun.data.cycles.cast_shadow = shadows
+    sun.rotation_mode = "QUATERNION"
+    sun.rotation_quaternion = direction.to_track_quat("Z", "Y")
+    scene.collection.objects.link(sun)
+
+
+def _add_black_world(scene, temporary: _Temporary) -> None:
+    world = temporary.add(bpy.data.worlds.new("ShadeCut black"))
+    world.use_nodes = False
+    world.color = (0.0, 0.0, 0.0)
+    scene.world = world
+
+
+def _set_materials(view_layer, objects, albedo: Optional[float], temporary: _Temporary) -> None:
+    """One Lambertian material of the uniform albedo for all, or each slot's own-colour stand-in."""
+    if albedo is not None:
+        view_layer.material_override = temporary.add(
+            _diffuse_material("ShadeCut albedo", colour=(albedo, albedo, albedo, 1.0)))
+        return
+    stand_ins = {}
+    for ob in objects:
+        for slot in ob.material_slots:
+            if slot.material in stand_ins.values():
+                continue  # a mesh shared with an object already done: its slot is swapped
+            if slot.material not in stand_ins:
+                stand_ins[slot.material] = temporary.add(_own_colour_material(slot.material))
+            temporary.swapped_slots.append((slot, slot.material))
+            slot.material = stand_ins[slot.material]
+
+
+def _set_exact_cycles(scene, resolution, samples: int, indirect: bool, output: Path) -> None:
+    """Cycles on the CPU with samples at the pixel centres, identity colour management, the passes
+    of the ground truth, written to ``output`` as a 32-bit multilayer EXR."""
+    render = scene.render
+    render.engine = "CYCLES"
+    render.resolution_x, render.resolution_y = resolution
+    render.resolution_percentage = 100
+    render.pixel_aspect_x = render.pixel_aspect_y = 1.0
+    render.film_transparent = True
+    render.use_border = False
+    render.use_compositing = False
+    render.use_sequencer = False
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.samples = samples
+    cycles.use_adaptive_sampling = False
+    cycles.use_denoising = False
+    cycles.seed = 0
+    cycles.pixel_filter_type = "BOX"
+    cycles.filter_width = 0.01  # Cycles' minimum: every sample at the pixel centre
+    cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
+    bounces = INDIRECT_BOUNCES if indirect else 0
+    cycles.max_bounces = cycles.diffuse_bounces = bounces
+    cycles.glossy_bounces = cycles.transmission_bounces = cycles.volume_bounces = 0
+    cycles.caustics_reflective = cycles.caustics_refractive = False
+    view = scene.view_settings
+    scene.display_settings.display_device = "sRGB"
+    view.view_transform, view.look, view.exposure, view.gamma = "Standard", "None", 0.0, 1.0
+    view.use_curve_mapping = False
+    view_layer = scene.view_layers[0]
+    view_layer.cycles.use_denoising = False
+    for name in ("combined", "normal", "position", "diffuse_color", "diffuse_direct"):
+        setattr(view_layer, f"use_pass_{name}", True)
+    render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    render.image_settings.color_depth = "32"
+    render.image_settings.exr_codec = "ZIP"
+    render.filepath = str(output)
+
+
+def _render_passes(scene, output: Path) -> dict:
+    """Renders the scene and reads the passes Cycles wrote to ``output``."""
+    outcome = bpy.ops.render.render(scene=scene.name, write_still=True)
+    if "FINISHED" not in outcome or not output.is_file():
+        raise RenderError(f"Cycles did not finish the render ({', '.join(sorted(outcome))})")
+    return _read_passes(output)
+
+
 def _assemble(passes, light_vector, camera_matrix, lens, resolution, albedo, shadows, indirect, noise, bits, seed,
               samples, frame, object_names) -> LambertianRender:
     """Turns Cycles' passes into the arrays and meta of a :class:`LambertianRender`."""
     width, height = resolution
-    rotation = np.array(camera_matrix.to_3x3().normalized())
-    origin = np.array(camera_matrix.translation)
-    mask = passes["Combined.A"] > 0.5
-    rgb = np.dstack([passes[f"Combined.{c}"] for c in "RGB"])
-    clean = (rgb @ LUMINANCE).astype(np.float32)
-
-    # World to camera frame: v_cam = R^T (v - origin), written for row vectors.
-    normals = np.dstack([passes[f"Normal.{c}"] for c in "XYZ"]) @ rotation
-    length = np.linalg.norm(normals, axis=2, keepdims=True)
-    normals = np.where(mask[..., None] & (length > 0), normals / np.maximum(length, 1e-12), 0).astype(np.float32)
-    points = (np.dstack([passes[f"Position.{c}"] for c in "XYZ"]) - origin) @ rotation
-    depth = np.where(mask, points[..., 2], 0).astype(np.float32)
-
-    albedo_map = None
-    if albedo is None:
-        albedo_map = np.where(mask, np.dstack([passes[f"DiffCol.{c}"] for c in "RGB"]) @ LUMINANCE, 0)
-        albedo_map = albedo_map.astype(np.float32)
-        albedo_value = float(albedo_map[mask].mean()) if mask.any() else 0.0
-    else:
-        albedo_value = float(albedo)
-
-    shadow_mask = None
-    if shadows:
-        # Diffuse Direct is the light arriving at the surface (sun strength pi: cos where it is lit);
-        # a pixel facing the light that gets clearly less than its cosine lies in a cast shadow.
-        direct = np.dstack([passes[f"DiffDir.{c}"] for c in "RGB"]) @ LUMINANCE
-        cosine = normals @ light_vector
-        shadow_mask = mask & (cosine > MIN_SHADOW_COSINE) & (direct < SHADOW_RATIO * cosine)
-
-    image = clean.astype(np.float64)
-    if noise > 0:
-        image = np.maximum(image + np.random.default_rng(seed).normal(0.0, noise, image.shape), 0.0)
-    if bits is not None:
-        image = _quantize(image, bits)
-
+    mask, clean, normals, depth = _camera_frame_truth(passes, camera_matrix)
+    albedo_map, albedo_value = _albedo(passes, mask, albedo)
+    shadow_mask = _cast_shadows(passes, mask, normals, light_vector) if shadows else None
+    image = _degrade(clean, noise, bits, seed)
     camera = dict(lens, matrix_world=[list(row) for row in camera_matrix])
-    if camera["type"] == "orthographic":
-        pixel_size = camera["ortho_scale"] / camera["side_px"]
-    else:
-        # A perspective pixel grows with distance; this is its size at the objects' median distance.
-        distance = float(-np.median(depth[mask])) if mask.any() else 1.0
-        pixel_size = distance / camera["focal_px"]
+    pixel_size = _pixel_size(camera, depth, mask)
     meta = {
         "source": "blender_cycles",
         "blender_version": bpy.app.version_string,
@@ -482,6 +487,65 @@ def _assemble(passes, light_vector, camera_matrix, lens, resolution, albedo, sha
     }
     if camera["type"] == "perspective":
         meta["pixel_size_note"] = "perspective camera: pixel size at the objects' median distance"
-    return LambertianRender(image=image.astype(np.float32), clean_image=clean, normals=normals, depth=depth,
+    return LambertianRender(image=image, clean_image=clean, normals=normals, depth=depth,
                             mask=mask, light=light_vector, albedo=albedo_value, meta=meta, shadow_mask=shadow_mask,
                             albedo_map=albedo_map)
+
+
+def _channels(passes: dict, name: str, channels: str) -> np.ndarray:
+    """One pass as an (H, W, len(channels)) array, e.g. ``_channels(passes, "Normal", "XYZ")``."""
+    return np.dstack([passes[f"{name}.{c}"] for c in channels])
+
+
+def _camera_frame_truth(passes: dict, camera_matrix: Matrix) -> tuple[np.ndarray, ...]:
+    """The mask, the clean image, and the normals and depth in the camera frame, 0 outside the mask."""
+    rotation = np.array(camera_matrix.to_3x3().normalized())
+    origin = np.array(camera_matrix.translation)
+    mask = passes["Combined.A"] > 0.5
+    clean = (_channels(passes, "Combined", "RGB") @ LUMINANCE).astype(np.float32)
+
+    # World to camera frame: v_cam = R^T (v - origin), written for row vectors.
+    normals = _channels(passes, "Normal", "XYZ") @ rotation
+    length = np.linalg.norm(normals, axis=2, keepdims=True)
+    normals = np.where(mask[..., None] & (length > 0), normals / np.maximum(length, 1e-12), 0).astype(np.float32)
+    points = (_channels(passes, "Position", "XYZ") - origin) @ rotation
+    depth = np.where(mask, points[..., 2], 0).astype(np.float32)
+    return mask, clean, normals, depth
+
+
+def _albedo(passes: dict, mask: np.ndarray, albedo: Optional[float]) -> tuple[Optional[np.ndarray], float]:
+    """(albedo map, albedo): (None, the uniform albedo), or the own colours' map and its mean on the mask."""
+    if albedo is not None:
+        return None, float(albedo)
+    albedo_map = np.where(mask, _channels(passes, "DiffCol", "RGB") @ LUMINANCE, 0).astype(np.float32)
+    return albedo_map, float(albedo_map[mask].mean()) if mask.any() else 0.0
+
+
+def _cast_shadows(passes: dict, mask: np.ndarray, normals: np.ndarray, light_vector: np.ndarray) -> np.ndarray:
+    """The pixels in cast shadow.
+
+    Diffuse Direct is the light arriving at the surface (sun strength pi: cos where it is lit); a
+    pixel facing the light that gets clearly less than its cosine lies in a cast shadow.
+    """
+    direct = _channels(passes, "DiffDir", "RGB") @ LUMINANCE
+    cosine = normals @ light_vector
+    return mask & (cosine > MIN_SHADOW_COSINE) & (direct < SHADOW_RATIO * cosine)
+
+
+def _degrade(clean: np.ndarray, noise: float, bits: Optional[int], seed: int) -> np.ndarray:
+    """The clean image with the Gaussian noise (seeded) and the quantization asked for, float32."""
+    image = clean.astype(np.float64)
+    if noise > 0:
+        image = np.maximum(image + np.random.default_rng(seed).normal(0.0, noise, image.shape), 0.0)
+    if bits is not None:
+        image = _quantize(image, bits)
+    return image.astype(np.float32)
+
+
+def _pixel_size(camera: dict, depth: np.ndarray, mask: np.ndarray) -> float:
+    """The size of a pixel in scene units (for a perspective camera, at the objects' median distance)."""
+    if camera["type"] == "orthographic":
+        return camera["ortho_scale"] / camera["side_px"]
+    # A perspective pixel grows with distance; this is its size at the objects' median distance.
+    distance = float(-np.median(depth[mask])) if mask.any() else 1.0
+    return distance / camera["focal_px"]

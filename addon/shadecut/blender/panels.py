@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import bpy
 
-from .operators import SHADECUT_OT_reconstruct
-from .render_operator import draw_render_settings
+from .reconstruct_operator import SHADECUT_OT_reconstruct
+from .render_operator import SHADECUT_OT_render_lambertian
 
 
 def draw_reconstruct_settings(layout, settings) -> None:
+    """Draws the reconstruction settings and the buttons into a panel's layout."""
     layout.use_property_split = True
     layout.use_property_decorate = False
 
@@ -52,6 +53,30 @@ def draw_reconstruct_settings(layout, settings) -> None:
     browse.use_file_browser = True
 
 
+def draw_render_settings(layout, settings) -> None:
+    """Draws the render settings and the button into a panel's layout."""
+    column = layout.column()
+    column.prop(settings, "objects")
+    column.prop(settings, "light_source")
+    column.prop(settings, "light_direction" if settings.light_source == "DIRECTION" else "sun")
+    column.prop(settings, "camera_source")
+    row = column.row(align=True)
+    row.prop(settings, "resolution_x")
+    row.prop(settings, "resolution_y")
+    column.prop(settings, "albedo_source")
+    if settings.albedo_source == "UNIFORM":
+        column.prop(settings, "albedo")
+    column.prop(settings, "shadows")
+    column.prop(settings, "indirect")
+    column.prop(settings, "samples")
+    row = column.row(align=True)
+    row.prop(settings, "noise")
+    row.prop(settings, "quantization", text="")
+    column.prop(settings, "seed")
+    column.prop(settings, "output_dir")
+    column.operator(SHADECUT_OT_render_lambertian.bl_idname, icon="RENDER_STILL")
+
+
 class ReconstructPanel:
     bl_label = "Reconstruct from shading"
     bl_region_type = "UI"
@@ -77,4 +102,4 @@ class SHADECUT_PT_render_view3d(bpy.types.Panel):
     bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context):
-        draw_render_settings(self.layout, context)
+        draw_render_settings(self.layout, context.scene.shadecut_render)

@@ -1,10 +1,12 @@
-"""The reconstruction settings, one PropertyGroup on the scene (``scene.shadecut``)."""
+"""The settings on the scene, one PropertyGroup per operator: ``scene.shadecut`` (reconstruction)
+and ``scene.shadecut_render`` (the Lambertian test render)."""
 
 from __future__ import annotations
 
 import bpy
 
 from ..api import MIN_LABELS, Integrator, ReconstructOptions
+from . import lambertian
 from .preferences import METHOD_ITEMS
 
 # The library's defaults, held once in C++; the panel starts from them.
@@ -24,7 +26,13 @@ def _is_camera(_settings, obj) -> bool:
     return obj.type == "CAMERA"
 
 
-class ShadeCutSettings(bpy.types.PropertyGroup):
+def _is_sun(_settings, ob) -> bool:
+    return ob.type == "LIGHT" and ob.data.type == "SUN"
+
+
+class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
+    """Settings of the reconstruction (see reconstruct_operator.SHADECUT_OT_reconstruct)."""
+
     image: bpy.props.PointerProperty(
         name="Image", type=bpy.types.Image,
         description="The shaded image; empty = the image shown in the Image Editor",
@@ -107,4 +115,64 @@ class ShadeCutSettings(bpy.types.PropertyGroup):
     )
     normal_map: bpy.props.BoolProperty(
         name="Normal map", default=False, description="Also store the normals as a new image",
+    )
+
+
+class ShadeCutRenderSettings(bpy.types.PropertyGroup):
+    """Settings of the Lambertian test render (see shadecut.blender.lambertian.render_lambertian)."""
+
+    objects: bpy.props.EnumProperty(
+        name="Objects",
+        items=(("SELECTED", "Selected", "The selected mesh objects"),
+               ("VISIBLE", "Visible", "Every mesh visible in the view layer")),
+        default="SELECTED",
+    )
+    light_source: bpy.props.EnumProperty(
+        name="Light",
+        items=(("DIRECTION", "Direction", "A direction toward the light in the camera frame (x right, y up, "
+                                          "z toward the viewer)"),
+               ("SUN", "Sun", "The direction of a Sun light of the scene")),
+        default="DIRECTION",
+    )
+    light_direction: bpy.props.FloatVectorProperty(
+        name="Direction", size=3, default=(1.0, 0.0, 1.0), subtype="XYZ",
+        description="Toward the light, camera frame; z must be > 0",
+    )
+    sun: bpy.props.PointerProperty(name="Sun", type=bpy.types.Object, poll=_is_sun)
+    camera_source: bpy.props.EnumProperty(
+        name="Camera",
+        items=(("FIT", "Fitted orthographic", "An orthographic camera fitted to the objects, front view"),
+               ("SCENE", "Scene camera", "The scene's active camera")),
+        default="FIT",
+    )
+    resolution_x: bpy.props.IntProperty(name="Width", default=256, min=2, max=16384, subtype="PIXEL")
+    resolution_y: bpy.props.IntProperty(name="Height", default=256, min=2, max=16384, subtype="PIXEL")
+    albedo_source: bpy.props.EnumProperty(
+        name="Albedo",
+        items=(("UNIFORM", "Uniform", "One diffuse albedo for every object"),
+               ("OWN", "Own colours", "Each material's base colour (luminance), textures included")),
+        default="UNIFORM",
+    )
+    albedo: bpy.props.FloatProperty(name="Albedo", default=0.8, min=0.001, max=1.0)
+    shadows: bpy.props.BoolProperty(name="Cast shadows", default=False,
+                                    description="Off: the Lambertian model of the paper, which has no shadows")
+    indirect: bpy.props.BoolProperty(name="Indirect light", default=False,
+                                     description="Light bouncing between surfaces (needs many samples)")
+    samples: bpy.props.IntProperty(
+        name="Samples", default=0, min=0, max=65536,
+        description=f"Cycles samples per pixel; 0 = automatic (1 without indirect light, which is exact, "
+                    f"{lambertian.INDIRECT_SAMPLES} with it)",
+    )
+    noise: bpy.props.FloatProperty(name="Noise", default=0.0, min=0.0, max=1.0, precision=4,
+                                   description="Standard deviation of Gaussian noise added to the linear image")
+    quantization: bpy.props.EnumProperty(
+        name="Quantization",
+        items=(("FLOAT", "Float", "No quantization"), ("8", "8-bit", "8-bit sRGB codes"),
+               ("16", "16-bit", "16-bit sRGB codes")),
+        default="FLOAT",
+    )
+    seed: bpy.props.IntProperty(name="Seed", default=0, min=0, description="Seed of the noise")
+    output_dir: bpy.props.StringProperty(
+        name="Output", default="//shadecut_render", subtype="DIR_PATH",
+        description="Folder that receives image.exr/.png, normals.exr, depth.exr, mask.png and meta.json",
     )

@@ -4,6 +4,9 @@ Code in a Blender window must return to the event loop for anything to be drawn,
 operators to run and for simulated events to arrive, so a script that drives the UI is written as
 a generator and advanced by a timer. Timers run outside ``--python-exit-code``'s reach, so the
 process exits here with the script's outcome.
+
+Used by tests/blender/ui_session.py and blender_scripts/screenshot.py, which put this folder on
+``sys.path``.
 """
 
 from __future__ import annotations

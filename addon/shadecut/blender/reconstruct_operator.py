@@ -101,9 +101,6 @@ def _light(context, settings) -> Optional[np.ndarray]:
         return None
     if settings.light_source == "DIRECTION":
         light = np.array(settings.light_direction, dtype=float)
-        if not np.linalg.norm(light) > 0:
-            raise InputError("The light direction is zero: type a direction toward the light")
-        light /= np.linalg.norm(light)
     else:
         context.view_layer.update()  # a script may have just moved the sun or the camera
         camera = None
@@ -116,10 +113,10 @@ def _light(context, settings) -> Optional[np.ndarray]:
             light = np.array(light_in_camera_frame(settings.light_object, camera))
         except FrameError as error:
             raise InputError(str(error)) from error
-    if light[2] <= 1e-6:
-        raise InputError(f"The light ({light[0]:.2f}, {light[1]:.2f}, {light[2]:.2f}) is at or below the image's "
-                         "horizon: shape from shading needs light from the viewer's side (z > 0)")
-    return light
+    try:
+        return api.light_direction(light)
+    except ValueError as error:
+        raise InputError(f"The light ({light[0]:.2f}, {light[1]:.2f}, {light[2]:.2f}) cannot be used: {error}") from error
 
 
 def prepare_job(context, filepath: str = "") -> Job:

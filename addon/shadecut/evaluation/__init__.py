@@ -1,0 +1,47 @@
+"""Measuring reconstructions against ground truth: metrics, aggregates, reports and figures.
+
+Used by ``blender_scripts/eval.py`` (which adds Blender's 3-D renders) and usable on its own; no
+``bpy`` here, and not part of the add-on's zip (the add-on never imports it). One module per concern:
+
+- :mod:`.metrics`: angular, depth and light errors on the eroded ground-truth mask;
+- :mod:`.inputs`: the checks of what a run is given, and synthetic datasets written to disk;
+- :mod:`.runner`: the methods run on one sample, on a dataset, and the paper's experiment;
+- :mod:`.report`: means, ranking, Markdown tables and the result files;
+- :mod:`.figures`: the strip of one sample.
+
+A record is one (sample, method) pair: a flat dict of the metrics, or ``status == "failed"`` with
+the error message. Angles are in degrees, depth in pixel units.
+"""
+
+from .figures import save_strip
+from .inputs import EvaluationError, check_methods, prepare_output, read_manifest, write_synthetic_dataset
+from .metrics import ERODE_PIXELS, METRICS, THRESHOLDS, depth_errors, light_error, mask_parts, normal_errors
+from .report import CSV_COLUMNS, method_table, shape_table, summarize, write_results
+from .runner import PAPER_LIGHT, Evaluation, SampleResult, evaluate_dataset, evaluate_sample, paper_experiment
+
+__all__ = [
+    "CSV_COLUMNS",
+    "ERODE_PIXELS",
+    "METRICS",
+    "PAPER_LIGHT",
+    "THRESHOLDS",
+    "Evaluation",
+    "EvaluationError",
+    "SampleResult",
+    "check_methods",
+    "depth_errors",
+    "evaluate_dataset",
+    "evaluate_sample",
+    "light_error",
+    "mask_parts",
+    "method_table",
+    "normal_errors",
+    "paper_experiment",
+    "prepare_output",
+    "read_manifest",
+    "save_strip",
+    "shape_table",
+    "summarize",
+    "write_results",
+    "write_synthetic_dataset",
+]

@@ -1,0 +1,111 @@
+"""The metrics of a reconstruction against its ground truth: angular and depth errors, light error.
+
+Every metric is taken on the ground-truth mask eroded by :data:`ERODE_PIXELS`, where the central
+differences of the image and of the true normals see no background. Angles are in degrees, depth in
+pixel units.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from .. import angular_error_map, erode_mask
+
+ERODE_PIXELS = 2
+THRESHOLDS = (11.25, 22.5, 30.0)  # degrees, the customary shares of shape-from-shading papers
+
+# The numeric columns of a record, in the order of results.csv and of the tables.
+METRICS = (
+    "mean_deg",
+    "median_deg",
+    "under_11.25_pct",
+    "under_22.5_pct",
+    "under_30_pct",
+    "depth_rmse",
+    "depth_rmse_scaled",
+    "depth_scale",
+    "seconds",
+    "light_error_deg",
+)
+
+
+def normal_errors(normals: np.ndarray, truth: np.ndarray, mask: np.ndarray, erode: int = ERODE_PIXELS) -> dict:
+    """Mean and median angular error and the share (percent) of pixels under each of THRESHOLDS.
+
+    Taken on ``mask`` eroded by ``erode`` pixels. Raises ValueError when the eroded mask is empty or
+    the normals are not finite there (a method that produced NaN has failed, not scored 0).
+    """
+    inside = erode_mask(mask, erode)
+    errors = angular_error_map(normals, truth, inside)[inside]
+    if errors.size == 0:
+        raise ValueError(f"the mask eroded by {erode} pixels is empty: nothing to measure")
+    if not np.isfinite(errors).all():
+        raise ValueError("the reconstructed normals are not finite (or are zero) on the mask")
+    metrics = {"mean_deg": float(np.mean(errors, dtype=np.float64)), "median_deg": float(np.median(errors))}
+    for threshold in THRESHOLDS:
+        metrics[f"under_{threshold:g}_pct"] = float(100.0 * np.count_nonzero(errors < threshold) / errors.size)
+    return metrics
+
+
+def mask_parts(mask: np.ndarray) -> np.ndarray:
+    """Labels the 4-connected parts of a mask: each pixel gets the smallest flat index of its part.
+
+    Outside the mask the label is ``mask.size``. Labels spread to the smaller 4-neighbour, then jump
+    to the label of the pixel they name (pointer jumping), so that long, thin parts settle in a few
+    sweeps instead of one sweep per pixel of their length. Numpy only: the add-on runs inside
+    Blender builds that bundle numpy but no scipy.
+    """
+    mask = np.asarray(mask, dtype=bool)
+    outside = mask.size
+    labels = np.where(mask, np.arange(mask.size).reshape(mask.shape), outside)
+    while True:
+        spread = labels.copy()
+        np.minimum(spread[1:], labels[:-1], out=spread[1:])
+        np.minimum(spread[:-1], labels[1:], out=spread[:-1])
+        np.minimum(spread[:, 1:], labels[:, :-1], out=spread[:, 1:])
+        np.minimum(spread[:, :-1], labels[:, 1:], out=spread[:, :-1])
+        spread = np.where(mask, spread, outside)
+        spread = np.append(spread.ravel(), outside)[spread]
+        if np.array_equal(spread, labels):
+            return labels
+        labels = spread
+
+
+def depth_errors(depth: np.ndarray, truth: np.ndarray, mask: np.ndarray, erode: int = ERODE_PIXELS) -> dict:
+    """Depth RMSE after the best offset, and after the best scale and offset, on the eroded mask.
+
+    Shape from shading fixes depth only up to a constant per connected part of the mask (4-neighbour
+    parts, as the integrator), so each part gets its own best offset; the scale is one for the image.
+    Returns ``depth_rmse``, ``depth_rmse_scaled`` and the fitted ``depth_scale`` (truth ~ scale *
+    depth + offsets; 1 for a reconstruction of the right amplitude).
+    """
+    inside = erode_mask(mask, erode)
+    if not inside.any():
+        raise ValueError(f"the mask eroded by {erode} pixels is empty: nothing to measure")
+    _, part = np.unique(mask_parts(mask)[inside], return_inverse=True)  # parts numbered 0, 1, ...
+    pixels = np.bincount(part)
+
+    def centred(values: np.ndarray) -> np.ndarray:
+        values = values[inside].astype(np.float64)
+        return values - (np.bincount(part, weights=values) / pixels)[part]
+
+    estimate, true = centred(np.asarray(depth)), centred(np.asarray(truth))
+    if not np.isfinite(estimate).all():
+        raise ValueError("the reconstructed depth is not finite on the mask")
+    power = float(np.dot(estimate, estimate))
+    scale = float(np.dot(estimate, true)) / power if power > 0 else 0.0
+    return {
+        "depth_rmse": float(np.sqrt(np.mean((estimate - true) ** 2))),
+        "depth_rmse_scaled": float(np.sqrt(np.mean((true - scale * estimate) ** 2))),
+        "depth_scale": scale,
+    }
+
+
+def light_error(estimated: Sequence[float], truth: Sequence[float]) -> float:
+    """The angle in degrees between two light directions (either length)."""
+    a = np.asarray(estimated, dtype=np.float64)
+    b = np.asarray(truth, dtype=np.float64)
+    # atan2 of |a x b| and a . b stays accurate for small angles, where arccos of the cosine does not.
+    return float(np.degrees(np.arctan2(np.linalg.norm(np.cross(a, b)), np.dot(a, b))))

@@ -1,0 +1,144 @@
+"""Aggregates and reports: the means per method and per shape, the ranking, the Markdown tables,
+and results.json, results.csv and report.md.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Optional, Sequence
+
+import numpy as np
+
+from .metrics import METRICS
+
+if TYPE_CHECKING:  # the runner imports this module: no import at run time
+    from .runner import Evaluation
+
+CSV_COLUMNS = ("sample", "shape", "method", "status", *METRICS, "error")
+
+
+def _mean(values: list) -> Optional[float]:
+    values = [v for v in values if v is not None]
+    return float(np.mean(values)) if values else None
+
+
+def _aggregate(records: list[dict]) -> dict:
+    done = [r for r in records if r["status"] == "ok"]
+    summary = {"samples": len(done), "failed": len(records) - len(done)}
+    summary.update({name: _mean([r[name] for r in done]) for name in METRICS})
+    return summary
+
+
+def summarize(records: list[dict]) -> dict:
+    """Means over samples per method and per (shape, method), and the ranking.
+
+    The ranking orders the methods by their mean angular error; a method that failed on some sample
+    is ranked after every method that did not, since its mean covers fewer (possibly easier) samples.
+    """
+    methods = list(dict.fromkeys(r["method"] for r in records))
+    shapes = list(dict.fromkeys(r["shape"] for r in records))
+    per_method = {m: _aggregate([r for r in records if r["method"] == m]) for m in methods}
+    per_shape = {
+        s: {m: _aggregate([r for r in records if r["shape"] == s and r["method"] == m]) for m in methods}
+        for s in shapes
+    }
+    ranking = sorted(
+        methods,
+        key=lambda m: (per_method[m]["failed"] > 0, math.inf if per_method[m]["mean_deg"] is None
+                       else per_method[m]["mean_deg"]),
+    )
+    return {"methods": per_method, "shapes": per_shape, "ranking": ranking}
+
+
+def _cell(value: Optional[float], digits: int = 2) -> str:
+    return "—" if value is None else f"{value:.{digits}f}"
+
+
+def method_table(summary: dict) -> str:
+    """The ranking as a Markdown table: one row per method, the mean of every metric over samples."""
+    with_light = any(s["light_error_deg"] is not None for s in summary["methods"].values())
+    header = ["rank", "method", "mean °", "median °", "< 11.25° %", "< 22.5° %", "< 30° %", "depth RMSE",
+              "RMSE scale+offset", "seconds", "failed"] + (["light error °"] if with_light else [])
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for rank, method in enumerate(summary["ranking"], 1):
+        s = summary["methods"][method]
+        row = [str(rank), method, _cell(s["mean_deg"]), _cell(s["median_deg"]), _cell(s["under_11.25_pct"], 1),
+               _cell(s["under_22.5_pct"], 1), _cell(s["under_30_pct"], 1), _cell(s["depth_rmse"]),
+               _cell(s["depth_rmse_scaled"]), _cell(s["seconds"], 3), f"{s['failed']}/{s['samples'] + s['failed']}"]
+        if with_light:
+            row.append(_cell(s["light_error_deg"]))
+        lines.append("| " + " | ".join(row) + " |")
+    return "\n".join(lines)
+
+
+def shape_table(summary: dict) -> str:
+    """Mean angular error per shape (rows) and method (columns, in ranking order), Markdown."""
+    methods = summary["ranking"]
+    lines = ["| shape | " + " | ".join(methods) + " |", "|---|" + "---|" * len(methods)]
+    for shape, by_method in summary["shapes"].items():
+        lines.append(f"| {shape} | " + " | ".join(_cell(by_method[m]["mean_deg"]) for m in methods) + " |")
+    return "\n".join(lines)
+
+
+def _json_ready(value):
+    """Plain JSON: NaN and infinities (a diverged method) become null instead of invalid JSON."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_ready(v) for v in value]
+    return value
+
+
+def write_results(out_dir: os.PathLike | str, evaluation: Evaluation, figures: Sequence[str] = ()) -> dict:
+    """Writes results.json, results.csv (one row per sample and method) and report.md.
+
+    ``figures``: PNG paths relative to ``out_dir`` that report.md shows. Returns the paths written.
+    """
+    out_dir = Path(out_dir)
+    summary = evaluation.summary
+    document = {"settings": evaluation.settings, "samples": evaluation.samples, "records": evaluation.records,
+                "summary": summary, "paper": evaluation.paper}
+    paths = {"json": out_dir / "results.json", "csv": out_dir / "results.csv", "report": out_dir / "report.md"}
+    paths["json"].write_text(json.dumps(_json_ready(document), indent=1, ensure_ascii=False) + "\n")
+
+    with open(paths["csv"], "w", newline="") as stream:
+        writer = csv.DictWriter(stream, fieldnames=CSV_COLUMNS)
+        writer.writeheader()
+        for record in evaluation.records + (evaluation.paper["records"] if evaluation.paper else []):
+            writer.writerow({k: ("" if v is None else v) for k, v in record.items()})
+
+    settings = evaluation.settings
+    light = (f"estimated from each image (shadecut.estimate_light, {settings['light_method']})"
+             if settings["light_method"] else "given (true)")
+    lines = [
+        "# ShadeCut evaluation",
+        "",
+        f"Dataset `{settings['dataset']}`: {len(evaluation.samples)} samples; methods "
+        f"{', '.join(settings['methods'])}; light and albedo {light}. Metrics on the mask eroded by "
+        f"{settings['erode_pixels']} pixels; means over the samples.",
+        "",
+        "## Ranking",
+        "",
+        method_table(summary),
+        "",
+        "## Mean angular error per shape (degrees)",
+        "",
+        shape_table(summary),
+        "",
+    ]
+    if evaluation.paper:
+        lines += ["## The paper's experiment: Mozart, light (1, 0, 1)", "",
+                  method_table(evaluation.paper["summary"]), ""]
+    failed = evaluation.failed
+    if failed:
+        lines += ["## Failures", ""] + [f"- {r['sample']} / {r['method']}: {r['error']}" for r in failed] + [""]
+    if figures:
+        lines += ["## Figures", ""] + [f"![{Path(f).stem}]({Path(f).as_posix()})" for f in figures] + [""]
+    paths["report"].write_text("\n".join(lines))
+    return paths
