@@ -2,6 +2,7 @@
 #include <shadecut/errors.hpp>
 #include <shadecut/estimate_light.hpp>
 #include <shadecut/image_io.hpp>
+#include <shadecut/integrate.hpp>
 #include <shadecut/reconstruct.hpp>
 
 #include <cmath>
@@ -39,13 +40,13 @@ options:
   --light X,Y,Z        light direction in the camera frame (Z > 0); without it the light (and,
                        unless --albedo is given, the albedo) is estimated from the image
   --light-method NAME  estimator used without --light: )"
-       << choices({"lee_rosenfeld", "zheng_chellappa"}) << " (default " << shadecut::to_string(defaults.light_method) << R"()
+       << choices(shadecut::light_method_names()) << " (default " << shadecut::to_string(defaults.light_method) << R"()
   --out DIR            output folder (default shadecut_out)
   --method NAME        )" << choices(shadecut::method_names()) << " (default " << shadecut::to_string(defaults.method) << R"()
   --albedo A           albedo (default: estimated from the brightest pixels)
   --labels K           tilt labels (default )" << defaults.labels << R"()
   --data-weight L      data weight lambda of graphcut (default )" << defaults.data_weight << R"()
-  --integrator NAME    poisson, frankot_chellappa (default )" << shadecut::to_string(defaults.integrator) << R"()
+  --integrator NAME    )" << choices(shadecut::integrator_names()) << " (default " << shadecut::to_string(defaults.integrator) << R"()
   --color-space NAME   auto (default), linear or srgb: how the file's values relate to intensity
   --tolerance T        stop when a cycle lowers the energy by at most T times it (default: the
                        method's own)

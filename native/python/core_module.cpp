@@ -47,8 +47,7 @@ PYBIND11_MODULE(_core, m) {
 
   bind_reconstruct(m);
   m.attr("METHODS") = py::tuple(py::cast(shadecut::method_names()));
-  m.attr("LIGHT_METHODS") = py::make_tuple(shadecut::to_string(shadecut::LightMethod::LeeRosenfeld),
-                                           shadecut::to_string(shadecut::LightMethod::ZhengChellappa));
+  m.attr("LIGHT_METHODS") = py::tuple(py::cast(shadecut::light_method_names()));
 
   m.def("estimate_light", [](const FloatArray& image, const std::optional<BoolArray>& mask, const std::string& method) {
     const ImageF img = to_image(image, "image");

@@ -3,6 +3,7 @@
 #include <shadecut/errors.hpp>
 #include <shadecut/validate.hpp>
 
+#include "enum_names.hpp"
 #include "masked_gradient.hpp"
 
 #include <algorithm>
@@ -22,15 +23,16 @@ double shadowed_mean_square(double s) { return std::pow(1.0 + std::cos(s), 2) / 
 
 }  // namespace
 
-LightMethod parse_light_method(const std::string& name) {
-  if (name == "lee_rosenfeld") return LightMethod::LeeRosenfeld;
-  if (name == "zheng_chellappa") return LightMethod::ZhengChellappa;
-  throw InvalidArgument("shadecut: unknown light estimator '" + name + "'; choose lee_rosenfeld or zheng_chellappa");
+const std::vector<std::string>& light_method_names() {
+  static const std::vector<std::string> names{"lee_rosenfeld", "zheng_chellappa"};
+  return names;
 }
 
-std::string to_string(LightMethod estimator) {
-  return estimator == LightMethod::LeeRosenfeld ? "lee_rosenfeld" : "zheng_chellappa";
+LightMethod parse_light_method(const std::string& name) {
+  return parse_enum<LightMethod>(light_method_names(), name, "light estimator");
 }
+
+std::string to_string(LightMethod method) { return light_method_names().at(std::size_t(method)); }
 
 LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightMethod method) {
   check_image(image);

@@ -3,6 +3,8 @@
 #include <shadecut/image_io.hpp>
 #include <shadecut/intensity.hpp>
 
+#include "enum_names.hpp"
+
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -124,10 +126,8 @@ struct Triangle {
 }  // namespace
 
 ColorSpace parse_color_space(const std::string& name) {
-  if (name == "auto") return ColorSpace::Auto;
-  if (name == "linear") return ColorSpace::Linear;
-  if (name == "srgb") return ColorSpace::SRGB;
-  throw InvalidArgument("unknown colour space \"" + name + "\"; expected \"auto\", \"linear\" or \"srgb\"");
+  static const std::vector<std::string> names{"auto", "linear", "srgb"};
+  return parse_enum<ColorSpace>(names, name, "colour space");
 }
 
 LoadedImage load_image(const std::string& path, ColorSpace color_space) {

@@ -2,6 +2,8 @@
 #include <shadecut/integrate.hpp>
 #include <shadecut/mask_components.hpp>
 
+#include "enum_names.hpp"
+
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <opencv2/core.hpp>
@@ -250,21 +252,14 @@ std::vector<double> integrate_frankot_chellappa(Gradients gradients, const Mask&
 
 }  // namespace
 
-Integrator parse_integrator(const std::string& name) {
-  if (name == "poisson") return Integrator::Poisson;
-  if (name == "frankot_chellappa") return Integrator::FrankotChellappa;
-  throw InvalidArgument("unknown integrator \"" + name + "\"; expected \"poisson\" or \"frankot_chellappa\"");
+const std::vector<std::string>& integrator_names() {
+  static const std::vector<std::string> names{"poisson", "frankot_chellappa"};
+  return names;
 }
 
-std::string to_string(Integrator integrator) {
-  switch (integrator) {
-    case Integrator::Poisson:
-      return "poisson";
-    case Integrator::FrankotChellappa:
-      return "frankot_chellappa";
-  }
-  throw InvalidArgument("unknown Integrator value " + std::to_string(int(integrator)));
-}
+Integrator parse_integrator(const std::string& name) { return parse_enum<Integrator>(integrator_names(), name, "integrator"); }
+
+std::string to_string(Integrator integrator) { return integrator_names().at(std::size_t(integrator)); }
 
 ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope) {
   validate(normals, mask, max_slope);

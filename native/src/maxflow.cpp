@@ -1,3 +1,4 @@
+#include "enum_names.hpp"
 #include "maxflow_impl.hpp"
 
 #include <shadecut/errors.hpp>
@@ -7,21 +8,20 @@
 
 namespace shadecut {
 
-MaxFlowKind parse_maxflow_kind(const std::string& name) {
-  if (name == "grid") return MaxFlowKind::Grid;
-  if (name == "opencv") return MaxFlowKind::OpenCV;
-  if (name == "boost") return MaxFlowKind::Boost;
-  throw InvalidArgument("unknown max-flow solver \"" + name + "\"; valid names: grid, opencv, boost");
+namespace {
+
+const std::vector<std::string>& maxflow_kind_names() {
+  static const std::vector<std::string> names{"grid", "opencv", "boost"};
+  return names;
 }
 
-std::string to_string(MaxFlowKind kind) {
-  switch (kind) {
-    case MaxFlowKind::Grid: return "grid";
-    case MaxFlowKind::OpenCV: return "opencv";
-    case MaxFlowKind::Boost: return "boost";
-  }
-  throw InvalidArgument("invalid MaxFlowKind value " + std::to_string(static_cast<int>(kind)));
+}  // namespace
+
+MaxFlowKind parse_maxflow_kind(const std::string& name) {
+  return parse_enum<MaxFlowKind>(maxflow_kind_names(), name, "max-flow solver");
 }
+
+std::string to_string(MaxFlowKind kind) { return maxflow_kind_names().at(std::size_t(kind)); }
 
 std::unique_ptr<MaxFlowSolver> make_maxflow_solver(MaxFlowKind kind) {
   switch (kind) {

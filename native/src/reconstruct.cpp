@@ -10,6 +10,7 @@
 #include <shadecut/tsai_shah.hpp>
 #include <shadecut/validate.hpp>
 
+#include "enum_names.hpp"
 #include "stopwatch.hpp"
 
 #include <opencv2/imgproc.hpp>
@@ -157,14 +158,7 @@ const std::vector<std::string>& method_names() {
   return names;
 }
 
-Method parse_method(const std::string& name) {
-  const std::vector<std::string>& names = method_names();
-  for (std::size_t i = 0; i < names.size(); ++i)
-    if (names[i] == name) return Method(i);
-  std::string choices;
-  for (std::size_t i = 0; i < names.size(); ++i) choices += (i ? ", " : "") + names[i];
-  throw InvalidArgument("shadecut: unknown method '" + name + "'; choose one of " + choices);
-}
+Method parse_method(const std::string& name) { return parse_enum<Method>(method_names(), name, "method"); }
 
 std::string to_string(Method method) { return method_names().at(std::size_t(method)); }
 

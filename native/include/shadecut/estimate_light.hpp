@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <vector>
 
 namespace shadecut {
 
@@ -21,7 +22,10 @@ enum class LightMethod {
   ZhengChellappa,
 };
 
-/// Parses "lee_rosenfeld" or "zheng_chellappa"; throws InvalidArgument otherwise.
+/// Every estimator's name, in the order of the enum.
+const std::vector<std::string>& light_method_names();
+
+/// Parses one of light_method_names(); throws InvalidArgument otherwise.
 LightMethod parse_light_method(const std::string& name);
 std::string to_string(LightMethod estimator);
 

@@ -4,6 +4,7 @@
 #include <shadecut/types.hpp>
 
 #include <string>
+#include <vector>
 
 namespace shadecut {
 
@@ -15,7 +16,10 @@ enum class Integrator {
                      ///< exact.
 };
 
-/// Parses "poisson" or "frankot_chellappa"; throws InvalidArgument otherwise.
+/// Every integrator's name, in the order of the enum.
+const std::vector<std::string>& integrator_names();
+
+/// Parses one of integrator_names(); throws InvalidArgument otherwise.
 Integrator parse_integrator(const std::string& name);
 std::string to_string(Integrator integrator);
 
