@@ -62,5 +62,11 @@ void check_capacities(const GridGraph& graph) {
   }
 }
 
+int start_solve(const GridGraph& graph, std::vector<std::uint8_t>& sink_side) {
+  check_capacities(graph);
+  sink_side.assign(std::size_t(graph.size()), 0);
+  return graph.size();
+}
+
 }  // namespace maxflow_internal
 }  // namespace shadecut

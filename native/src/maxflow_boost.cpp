@@ -26,12 +26,9 @@ using Vertex = Graph::vertex_descriptor;
 class BoostMaxFlow final : public MaxFlowSolver {
  public:
   double solve(GridGraph& graph, std::vector<std::uint8_t>& sink_side) override {
-    check_capacities(graph);
-    const int rows = graph.rows;
-    const int cols = graph.cols;
-    const int n = graph.size();
-    sink_side.assign(std::size_t(n), 0);
+    const int n = start_solve(graph, sink_side);
     if (n == 0) return 0.0;
+    const int rows = graph.rows, cols = graph.cols;
 
     // Vertices 0..n-1 are the pixels, n the source, n+1 the sink. Clearing only the out-edge lists
     // keeps their storage for the next graph of the same size.

@@ -5,7 +5,9 @@
 #include <shadecut/grid_graph.hpp>
 #include <shadecut/maxflow.hpp>
 
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace shadecut::maxflow_internal {
 
@@ -18,6 +20,9 @@ void check_shape(const GridGraph& graph);
 
 /// check_shape, and throws InvalidArgument unless every capacity is finite and >= 0.
 void check_capacities(const GridGraph& graph);
+
+/// check_capacities, and every node on the source side to begin with; returns the node count.
+int start_solve(const GridGraph& graph, std::vector<std::uint8_t>& sink_side);
 
 /// The message check_capacities throws; the grid solver checks the values while it copies them.
 extern const char* const bad_capacity_message;

@@ -12,12 +12,9 @@ namespace {
 class OpenCVMaxFlow final : public MaxFlowSolver {
  public:
   double solve(GridGraph& graph, std::vector<std::uint8_t>& sink_side) override {
-    check_capacities(graph);
-    const int rows = graph.rows;
-    const int cols = graph.cols;
-    const int n = graph.size();
-    sink_side.assign(std::size_t(n), 0);
+    const int n = start_solve(graph, sink_side);
     if (n == 0) return 0.0;
+    const int rows = graph.rows, cols = graph.cols;
 
     const auto nonzero = [](float forward, float reverse) { return forward > 0.0f || reverse > 0.0f; };
     unsigned edge_count = 0;
