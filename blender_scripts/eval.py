@@ -2,7 +2,7 @@
 
     blender -b -P blender_scripts/eval.py -- [--dataset DIR] [--methods graphcut,lee_rosenfeld,...]
         [--out DIR] [--size N] [--estimate-light [ESTIMATOR]] [--shapes a,b] [--lights N] [--seed S]
-        [--no-paper]
+        [--no-paper] [--diligent DIR]
 
 Without --dataset, the default dataset (make_dataset.py's built-in shapes, three seeded lights each,
 256 x 256; --size, --shapes, --lights and --seed change it) is generated once into
@@ -10,9 +10,18 @@ $XDG_CACHE_HOME/shadecut/datasets/<hash of the settings> (~/.cache by default) a
 results.json, results.csv, report.md and figures/ (a strip per sample, the paper's experiment as
 normal maps and as Blender renders of the surfaces) to --out (default out/eval in the repository).
 
+--diligent DIR evaluates real photographs: DIR is a DiLiGenT object folder (ballPNG/, in the
+benchmark's own layout) or a folder of them. Each object is imported into <out>/diligent/<object>/
+(once: a later run reuses it) and every method runs on every photograph with the calibrated light
+and with the light estimated as reconstruct(light=None) does, the albedo always estimated; the
+report gets a "Real photographs" section (a table per object, with the flat plane's row, and a
+strip per object). --diligent alone runs only that part; with --dataset DIR the synthetic dataset
+(and the paper's experiment, unless --no-paper) is evaluated too.
+
 Exit code: 0 when every method was evaluated on every sample; 1 when a method failed on a sample
-(recorded in the results); 2 for bad input (unknown method, missing or malformed dataset,
-unwritable output folder), with a message and no traceback.
+(recorded in the results); 2 for bad input (unknown method, missing or malformed dataset, a
+--diligent folder missing or not in DiLiGenT's layout, unwritable output folder), with a message
+and no traceback.
 
 The metrics, tables and strips live in shadecut.evaluation (no bpy); this script parses the
 arguments, generates the dataset and renders the 3-D surfaces with Blender.
@@ -64,6 +73,8 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
                         f"{', '.join(m for m in shadecut.LIGHT_METHODS if m != 'lee_rosenfeld')})")
     parser.add_argument("--no-paper", action="store_true",
                         help="skip the paper's experiment (Mozart, light (1,0,1))")
+    parser.add_argument("--diligent", type=Path, metavar="DIR",
+                        help="real photographs: a DiLiGenT object folder or a folder of them (alone: only these)")
     generated = parser.add_argument_group("generated dataset (without --dataset)")
     generated.add_argument("--size", type=int, metavar="N",
                            help=f"image size in pixels (default {GENERATED_DEFAULTS['size']})")
@@ -230,29 +241,51 @@ def main(argv: list[str]) -> int:
         if args.dataset is not None and generated_only:
             raise evaluation.EvaluationError(f"{', '.join(generated_only)} apply to the generated dataset, "
                                              "not to one given with --dataset")
+        run_dataset = args.diligent is None or args.dataset is not None  # --diligent alone: photographs only
+        if not run_dataset and (generated_only or args.estimate_light):
+            given = generated_only + (["--estimate-light"] if args.estimate_light else [])
+            raise evaluation.EvaluationError(f"{', '.join(given)} apply to a synthetic dataset, which --diligent "
+                                             "alone does not evaluate (add --dataset DIR)")
+        objects = evaluation.find_objects(args.diligent) if args.diligent is not None else []
         out = evaluation.prepare_output(args.out.resolve())
         figures = evaluation.prepare_output(out / "figures")
-        dataset = args.dataset if args.dataset is not None else generated_dataset(args)
-        evaluation.read_manifest(dataset)
+        dataset = None
+        if run_dataset:
+            dataset = args.dataset if args.dataset is not None else generated_dataset(args)
+            evaluation.read_manifest(dataset)
+        imported = evaluation.import_objects(objects, out / "diligent", log=log) if objects else {}
     except evaluation.EvaluationError as error:
         print(f"eval.py: error: {error}", file=sys.stderr)
         return 2
 
-    light = f"light and albedo estimated by {args.estimate_light}" if args.estimate_light else "true light and albedo"
-    log(f"evaluating {len(methods)} methods ({', '.join(methods)}) on {dataset}; {light}")
-    run = evaluation.evaluate_dataset(dataset, methods, light_method=args.estimate_light, figures_dir=figures,
-                                      log=log)
-    shown = [f"figures/{sample['id']}.png" for sample in run.samples if (figures / f"{sample['id']}.png").is_file()]
-    if not args.no_paper:
+    shown = []
+    if run_dataset:
+        light = (f"light and albedo estimated by {args.estimate_light}" if args.estimate_light
+                 else "true light and albedo")
+        log(f"evaluating {len(methods)} methods ({', '.join(methods)}) on {dataset}; {light}")
+        run = evaluation.evaluate_dataset(dataset, methods, light_method=args.estimate_light, figures_dir=figures,
+                                          log=log)
+        shown = [f"figures/{s['id']}.png" for s in run.samples if (figures / f"{s['id']}.png").is_file()]
+    else:
+        run = evaluation.Evaluation({"dataset": None, "methods": list(methods), "light_method": None,
+                                     "erode_pixels": evaluation.ERODE_PIXELS}, [], [])
+    if run_dataset and not args.no_paper:
         log("the paper's experiment: Mozart, light (1, 0, 1)")
         run.paper, result = evaluation.paper_experiment(shapes.MOZART, methods, figures_dir=figures, log=log)
         shown = ["figures/mozart_paper.png", paper_figures(figures, result).relative_to(out).as_posix()] + shown
+    if imported:
+        log(f"evaluating {len(methods)} methods ({', '.join(methods)}) on the real photographs of "
+            f"{', '.join(imported)}; calibrated, then estimated light; albedo estimated")
+        run.real = evaluation.evaluate_real(imported, methods, figures_dir=figures, log=log)
     paths = evaluation.write_results(out, run, shown)
 
     summary = run.summary
-    log("\n" + evaluation.method_table(summary) + "\n\n" + evaluation.shape_table(summary))
+    if run_dataset:
+        log("\n" + evaluation.method_table(summary) + "\n\n" + evaluation.shape_table(summary))
     if run.paper:
         log("\nThe paper's experiment, Mozart, light (1, 0, 1):\n" + evaluation.method_table(run.paper["summary"]))
+    for name, part in (run.real or {}).get("objects", {}).items():
+        log(f"\nReal photographs, {name}:\n" + evaluation.real_table(part))
     failed = run.failed
     if failed:
         log(f"\n{len(failed)} evaluation(s) failed:")

@@ -11,17 +11,21 @@ A sample folder holds
   camera looks down -z, so z is negative in front of it and larger = closer, as in pixel units.
   ``meta["pixel_size"]`` is the size of one pixel in scene units (for a perspective camera: at the
   objects' distance), and :func:`load_sample` returns ``z / pixel_size``, i.e. depth in pixel units.
+  Absent when the depth is unknown (real photographs): ``depth`` is then None.
 - ``mask.png``: 8-bit, 255 inside the objects.
 - ``shadow_mask.png`` (only when cast shadows were rendered): 255 where a lit-facing pixel is in a
   cast shadow.
 - ``albedo.exr`` (only when the objects kept their own colours): per-pixel albedo, linear float.
-- ``meta.json``: the light (unit vector toward the light, camera frame), the albedo, the pixel size,
-  the camera, the resolution, the conventions, the noise and seed, the Blender version, ...
+- ``meta.json``: the light (unit vector toward the light, camera frame), the albedo (null when unknown,
+  as for a photograph), the pixel size, the camera, the resolution, the conventions, the noise and
+  seed, the Blender version, ...
 
 Samples are written atomically (into a hidden temporary folder renamed into place), so a folder named
 like a sample is always complete. A dataset folder holds sample folders plus ``manifest.json`` and
 ``manifest.csv``, one entry per sample (``id``, ``shape``, ``folder`` relative to the dataset folder,
 ``light``, ``albedo``, ``size``, ``seed``, ...).
+
+Real photographs come in through :func:`import_diligent` (module :mod:`shadecut.diligent`).
 
 Conventions are those of the project README: image row 0 at the top; camera frame x right, y up,
 z toward the viewer (Blender's camera-local axes). This module does not need ``bpy``.
@@ -63,10 +67,11 @@ class Sample:
     folder: Path
     image: np.ndarray  # (H, W) float32, linear
     normals: np.ndarray  # (H, W, 3) float32, camera frame, 0 outside the mask
-    depth: np.ndarray  # (H, W) float32, pixel units, larger = closer (camera z: negative), 0 outside the mask
+    depth: Optional[np.ndarray]  # (H, W) float32, pixel units, larger = closer (camera z: negative), 0 outside
+    # the mask; None when unknown (a photograph)
     mask: np.ndarray  # (H, W) bool
     light: np.ndarray  # (3,) unit vector toward the light, camera frame
-    albedo: float  # the uniform albedo, or the mean of albedo_map over the mask
+    albedo: Optional[float]  # the uniform albedo, or the mean of albedo_map over the mask; None = unknown
     meta: dict
     shadow_mask: Optional[np.ndarray] = None  # (H, W) bool, when rendered with cast shadows
     albedo_map: Optional[np.ndarray] = None  # (H, W) float32, when the objects kept their own colours
@@ -128,7 +133,8 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
     """Writes one sample folder (see the module docstring) atomically.
 
     ``depth`` is camera-frame z in scene units; ``meta`` must hold ``pixel_size`` (scene units per
-    pixel) so that readers convert it to pixel units. ``light`` is stored normalized. An existing
+    pixel) so that readers convert it to pixel units. ``depth`` None = unknown: no depth.exr.
+    ``albedo`` None = unknown (stored as null). ``light`` is stored normalized. An existing
     folder of the same name is replaced. The files are written into ``.<name>.partial`` beside the
     folder, which is then renamed: an interrupted call never leaves a folder named like the sample.
     """
@@ -138,18 +144,21 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
         raise ValueError(f"shadecut: the image must be (H, W); got shape {image.shape}")
     shape = image.shape
     normals = np.asarray(normals, dtype=np.float32)
-    depth = np.asarray(depth, dtype=np.float32)
+    depth = None if depth is None else np.asarray(depth, dtype=np.float32)
     mask = np.asarray(mask, dtype=bool)
-    if normals.shape != (*shape, 3) or depth.shape != shape or mask.shape != shape:
-        raise ValueError(f"shadecut: image {shape}, normals {normals.shape}, depth {depth.shape} and mask "
-                         f"{mask.shape} must share (H, W), normals with 3 channels")
+    if normals.shape != (*shape, 3) or (depth is not None and depth.shape != shape) or mask.shape != shape:
+        raise ValueError(f"shadecut: image {shape}, normals {normals.shape}, depth "
+                         f"{None if depth is None else depth.shape} and mask {mask.shape} must share (H, W), "
+                         "normals with 3 channels")
     for name, extra in (("shadow_mask", shadow_mask), ("albedo_map", albedo_map)):
         if extra is not None and np.shape(extra) != shape:
             raise ValueError(f"shadecut: {name} has shape {np.shape(extra)}, not {shape}")
-    if "pixel_size" not in meta or not float(meta["pixel_size"]) > 0:
+    if depth is not None and ("pixel_size" not in meta or not float(meta["pixel_size"]) > 0):
         raise ValueError("shadecut: meta must hold a positive 'pixel_size' (scene units per pixel) for depth.exr")
 
     files = ["image.exr", "image.png", "normals.exr", "depth.exr", "mask.png", _META]
+    if depth is None:
+        files.remove("depth.exr")
     if shadow_mask is not None:
         files.insert(-1, "shadow_mask.png")
     if albedo_map is not None:
@@ -160,7 +169,7 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
         version=VERSION,
         id=meta.get("id", folder.name),
         light=light_direction(light).tolist(),
-        albedo=float(albedo),
+        albedo=None if albedo is None else float(albedo),
         resolution=[shape[1], shape[0]],
         conventions=CONVENTIONS,
         files=files,
@@ -174,7 +183,8 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
         save_image(partial / "image.exr", image, mask)
         save_image(partial / "image.png", image, mask)
         save_normals(partial / "normals.exr", np.where(mask[..., None], normals, 0).astype(np.float32), mask)
-        save_depth(partial / "depth.exr", depth, mask)
+        if depth is not None:
+            save_depth(partial / "depth.exr", depth, mask)
         _write_mask(partial / "mask.png", mask)
         if shadow_mask is not None:
             _write_mask(partial / "shadow_mask.png", np.asarray(shadow_mask, dtype=bool))
@@ -208,14 +218,17 @@ def load_sample_meta(folder) -> dict:
 
 
 def load_sample(folder) -> Sample:
-    """Reads a sample folder; depth comes back in pixel units (z / meta["pixel_size"]), 0 outside the mask."""
+    """Reads a sample folder; depth comes back in pixel units (z / meta["pixel_size"]), 0 outside the mask,
+    or None when the sample has none (a photograph), as the albedo when unknown."""
     folder = Path(folder)
     meta = load_sample_meta(folder)
     mask = _read_channels(folder / "mask.png")[..., 0] > 0.5
     image = load_image(folder / "image.exr").image
     normals = _read_channels(folder / "normals.exr", ["R", "G", "B"])
-    z = _read_channels(folder / "depth.exr", ["Z"])[..., 0]
-    depth = np.where(mask, z / np.float32(meta["pixel_size"]), 0).astype(np.float32)
+    depth = None
+    if (folder / "depth.exr").is_file():
+        z = _read_channels(folder / "depth.exr", ["Z"])[..., 0]
+        depth = np.where(mask, z / np.float32(meta["pixel_size"]), 0).astype(np.float32)
     shadow_path, albedo_path = folder / "shadow_mask.png", folder / "albedo.exr"
     return Sample(
         id=meta.get("id", folder.name),
@@ -225,7 +238,7 @@ def load_sample(folder) -> Sample:
         depth=depth,
         mask=mask,
         light=light_direction(meta["light"]),
-        albedo=float(meta["albedo"]),
+        albedo=None if meta.get("albedo") is None else float(meta["albedo"]),
         meta=meta,
         shadow_mask=_read_channels(shadow_path)[..., 0] > 0.5 if shadow_path.is_file() else None,
         albedo_map=load_image(albedo_path).image if albedo_path.is_file() else None,
@@ -294,3 +307,6 @@ def load_dataset_info(dataset_dir) -> dict:
     if not path.is_file():
         raise OSError(f"shadecut: {dataset_dir} holds no {MANIFEST_JSON}")
     return json.loads(path.read_text()).get("dataset", {})
+
+
+from .diligent import import_diligent  # noqa: E402, F401  (re-exported; diligent.py uses the writer above)

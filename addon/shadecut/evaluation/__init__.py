@@ -7,7 +7,8 @@ Used by ``blender_scripts/eval.py`` (which adds Blender's 3-D renders) and usabl
 - :mod:`.inputs`: the checks of what a run is given, and synthetic datasets written to disk;
 - :mod:`.runner`: the methods run on one sample, on a dataset, and the paper's experiment;
 - :mod:`.report`: means, ranking, Markdown tables and the result files;
-- :mod:`.figures`: the strip of one sample.
+- :mod:`.figures`: the strip of one sample;
+- :mod:`.real`: real photographs (DiLiGenT), calibrated and estimated light, beside a flat plane.
 
 A record is one (sample, method) pair: a flat dict of the metrics, or ``status == "failed"`` with
 the error message. Angles are in degrees, depth in pixel units.
@@ -16,12 +17,14 @@ the error message. Angles are in degrees, depth in pixel units.
 from .figures import save_strip
 from .inputs import EvaluationError, check_methods, prepare_output, read_manifest, write_synthetic_dataset
 from .metrics import ERODE_PIXELS, METRICS, THRESHOLDS, depth_errors, light_error, mask_parts, normal_errors
-from .report import CSV_COLUMNS, method_table, shape_table, summarize, write_results
+from .real import FLAT, evaluate_object, evaluate_real, find_objects, flat_record, import_objects
+from .report import CSV_COLUMNS, method_table, real_table, shape_table, summarize, write_results
 from .runner import PAPER_LIGHT, Evaluation, SampleResult, evaluate_dataset, evaluate_sample, paper_experiment
 
 __all__ = [
     "CSV_COLUMNS",
     "ERODE_PIXELS",
+    "FLAT",
     "METRICS",
     "PAPER_LIGHT",
     "THRESHOLDS",
@@ -29,8 +32,13 @@ __all__ = [
     "EvaluationError",
     "SampleResult",
     "check_methods",
+    "find_objects",
+    "flat_record",
+    "import_objects",
     "depth_errors",
     "evaluate_dataset",
+    "evaluate_object",
+    "evaluate_real",
     "evaluate_sample",
     "light_error",
     "mask_parts",
@@ -39,6 +47,7 @@ __all__ = [
     "paper_experiment",
     "prepare_output",
     "read_manifest",
+    "real_table",
     "save_strip",
     "shape_table",
     "summarize",

@@ -18,7 +18,8 @@ from .metrics import METRICS
 if TYPE_CHECKING:  # the runner imports this module: no import at run time
     from .runner import Evaluation
 
-CSV_COLUMNS = ("sample", "shape", "method", "status", *METRICS, "error")
+# "light": empty for a dataset's records; "calibrated" or "estimated" for a real photograph's.
+CSV_COLUMNS = ("sample", "shape", "method", "light", "status", *METRICS, "error")
 
 
 def _mean(values: list) -> Optional[float]:
@@ -84,6 +85,44 @@ def shape_table(summary: dict) -> str:
     return "\n".join(lines)
 
 
+def real_table(part: dict) -> str:
+    """One object's real-photograph table (Markdown): the flat plane, then each method under the
+    calibrated and the estimated light, in the order of its ranking there."""
+    header = ["light", "method", "mean °", "median °", "< 11.25° %", "< 22.5° %", "< 30° %", "seconds",
+              "failed", "light error °"]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+
+    def row(light: str, method: str, s: dict) -> str:
+        cells = [light, method, _cell(s["mean_deg"]), _cell(s["median_deg"]), _cell(s["under_11.25_pct"], 1),
+                 _cell(s["under_22.5_pct"], 1), _cell(s["under_30_pct"], 1), _cell(s["seconds"], 3),
+                 f"{s['failed']}/{s['samples'] + s['failed']}", _cell(s["light_error_deg"])]
+        return "| " + " | ".join(cells) + " |"
+
+    summary = part["summary"]
+    lines.append(row("any", "**flat plane**", summary["flat"]))
+    for light in ("calibrated", "estimated"):
+        for method in summary[light]["ranking"]:
+            lines.append(row(light, method, summary[light]["methods"][method]))
+    return "\n".join(lines)
+
+
+def _real_lines(real: dict, out_dir: Path) -> list[str]:
+    settings = real["settings"]
+    lines = ["## Real photographs", "",
+             f"{settings['source']} ({settings['citation']}): every method on each photograph, given the "
+             f"calibrated light, then the light estimated by {settings['estimator']} (what reconstruct() "
+             "uses without a light); the albedo is always estimated. The **flat plane** row is the normal "
+             "(0, 0, 1) everywhere, the floor every method must beat. Metrics on the mask eroded by "
+             f"{settings['erode_pixels']} pixels; means over the photographs.", ""]
+    for name, part in real["objects"].items():
+        photographs = len({r["sample"] for r in part["records"]})
+        lines += [f"### {name} ({photographs} photographs)", "", real_table(part), ""]
+        for figure in part["figures"]:
+            relative = Path(os.path.relpath(figure, out_dir)).as_posix()
+            lines += [f"![{Path(figure).stem}]({relative})", ""]
+    return lines
+
+
 def _json_ready(value):
     """Plain JSON: NaN and infinities (a diverged method) become null instead of invalid JSON."""
     if isinstance(value, float) and not math.isfinite(value):
@@ -103,41 +142,45 @@ def write_results(out_dir: os.PathLike | str, evaluation: Evaluation, figures: S
     out_dir = Path(out_dir)
     summary = evaluation.summary
     document = {"settings": evaluation.settings, "samples": evaluation.samples, "records": evaluation.records,
-                "summary": summary, "paper": evaluation.paper}
+                "summary": summary, "paper": evaluation.paper, "real": evaluation.real}
     paths = {"json": out_dir / "results.json", "csv": out_dir / "results.csv", "report": out_dir / "report.md"}
     paths["json"].write_text(json.dumps(_json_ready(document), indent=1, ensure_ascii=False) + "\n")
 
     with open(paths["csv"], "w", newline="") as stream:
         writer = csv.DictWriter(stream, fieldnames=CSV_COLUMNS)
         writer.writeheader()
-        for record in evaluation.records + (evaluation.paper["records"] if evaluation.paper else []):
+        for record in evaluation.all_records:
             writer.writerow({k: ("" if v is None else v) for k, v in record.items()})
 
     settings = evaluation.settings
     light = (f"estimated from each image (shadecut.estimate_light, {settings['light_method']})"
-             if settings["light_method"] else "given (true)")
-    lines = [
-        "# ShadeCut evaluation",
-        "",
-        f"Dataset `{settings['dataset']}`: {len(evaluation.samples)} samples; methods "
-        f"{', '.join(settings['methods'])}; light and albedo {light}. Metrics on the mask eroded by "
-        f"{settings['erode_pixels']} pixels; means over the samples.",
-        "",
-        "## Ranking",
-        "",
-        method_table(summary),
-        "",
-        "## Mean angular error per shape (degrees)",
-        "",
-        shape_table(summary),
-        "",
-    ]
+             if settings.get("light_method") else "given (true)")
+    lines = ["# ShadeCut evaluation", ""]
+    if settings.get("dataset") is not None:  # None: only the real photographs were evaluated
+        lines += [
+            f"Dataset `{settings['dataset']}`: {len(evaluation.samples)} samples; methods "
+            f"{', '.join(settings['methods'])}; light and albedo {light}. Metrics on the mask eroded by "
+            f"{settings['erode_pixels']} pixels; means over the samples.",
+            "",
+            "## Ranking",
+            "",
+            method_table(summary),
+            "",
+            "## Mean angular error per shape (degrees)",
+            "",
+            shape_table(summary),
+            "",
+        ]
     if evaluation.paper:
         lines += ["## The paper's experiment: Mozart, light (1, 0, 1)", "",
                   method_table(evaluation.paper["summary"]), ""]
+    if evaluation.real:
+        lines += _real_lines(evaluation.real, out_dir)
     failed = evaluation.failed
     if failed:
-        lines += ["## Failures", ""] + [f"- {r['sample']} / {r['method']}: {r['error']}" for r in failed] + [""]
+        lines += ["## Failures", ""] + [f"- {r['sample']} / {r['method']}"
+                                        + (f" ({r['light']} light)" if r.get("light") else "") + f": {r['error']}"
+                                        for r in failed] + [""]
     if figures:
         lines += ["## Figures", ""] + [f"![{Path(f).stem}]({Path(f).as_posix()})" for f in figures] + [""]
     paths["report"].write_text("\n".join(lines))

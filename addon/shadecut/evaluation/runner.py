@@ -43,19 +43,23 @@ def evaluate_sample(sample_id: str, shape: str, truth, methods: Sequence[str], *
     """Reconstructs one sample with every method and measures each against the truth.
 
     ``truth`` has ``image``, ``normals``, ``depth``, ``mask``, ``light`` and ``albedo`` (a
-    dataset Sample or a synthetic Scene). The methods get the true light and albedo, as in the
-    paper, or with ``light_method`` (one of shadecut.LIGHT_METHODS) those that
+    dataset Sample or a synthetic Scene; ``albedo`` None = unknown, as for a photograph: the methods
+    then get albedo None and estimate it; ``depth`` None = unknown: no depth metrics). The methods
+    get the true light and albedo, as in the paper, or with ``light_method`` (one of
+    shadecut.LIGHT_METHODS) those that
     :func:`shadecut.estimate_light` finds with that estimator (one estimate per sample, shared by
     all methods); default parameters otherwise. A method that raises, or whose result is
     not finite, is recorded as failed with its message; the others go on.
     """
     true_light = np.asarray(truth.light, dtype=np.float64)
     true_light = true_light / np.linalg.norm(true_light)
+    known_albedo = None if truth.albedo is None else float(truth.albedo)
+    # An unknown albedo: used_albedo is the one reconstruct() estimated (the same for every method).
     info = {"id": sample_id, "shape": shape, "size": list(truth.mask.shape), "light": true_light.tolist(),
-            "albedo": float(truth.albedo), "used_light": true_light.tolist(), "used_albedo": float(truth.albedo),
+            "albedo": known_albedo, "used_light": true_light.tolist(), "used_albedo": known_albedo,
             "light_error_deg": None}
     records = [_record(sample_id, shape, method) for method in methods]
-    light, albedo = true_light, float(truth.albedo)
+    light, albedo = true_light, known_albedo
     if light_method is not None:
         try:
             light, albedo = estimate_light(truth.image, truth.mask, light_method)
@@ -79,11 +83,14 @@ def evaluate_sample(sample_id: str, shape: str, truth, methods: Sequence[str], *
             continue
         try:
             record.update(normal_errors(result.normals, truth.normals, truth.mask))
-            record.update(depth_errors(result.depth, truth.depth, truth.mask))
+            if truth.depth is not None:
+                record.update(depth_errors(result.depth, truth.depth, truth.mask))
         except ValueError as error:
             record.update(status="failed", error=str(error))
             continue
         record["seconds"] = float(result.stats.seconds["total"])
+        if info["used_albedo"] is None:
+            info["used_albedo"] = float(result.albedo)
         record["light_error_deg"] = info["light_error_deg"]
         reconstructions[method] = result
     return SampleResult(info, records, reconstructions, truth)
@@ -97,6 +104,7 @@ class Evaluation:
     samples: list[dict]
     records: list[dict]
     paper: Optional[dict] = None  # the paper's experiment: its sample, records and summary
+    real: Optional[dict] = None  # real photographs (see .real): settings, and per object records and summary
 
     @property
     def summary(self) -> dict:
@@ -104,7 +112,13 @@ class Evaluation:
 
     @property
     def failed(self) -> list[dict]:
-        return [r for r in self.records + (self.paper["records"] if self.paper else []) if r["status"] != "ok"]
+        return [r for r in self.all_records if r["status"] != "ok"]
+
+    @property
+    def all_records(self) -> list[dict]:
+        """The records of the dataset, then of the paper's experiment, then of the real photographs."""
+        real = [r for part in (self.real or {}).get("objects", {}).values() for r in part["records"]]
+        return self.records + (self.paper["records"] if self.paper else []) + real
 
 
 def _progress_line(index: int, total: int, result: SampleResult) -> str:

@@ -1,0 +1,180 @@
+"""DiLiGenT (Shi et al., CVPR 2016): real photographs with calibrated lights and measured normals,
+imported as ShadeCut dataset samples.
+
+An object folder of the benchmark (``ballPNG/``, ``catPNG/``, ...) holds ``NNN.png`` (16-bit linear
+RGB photographs), ``filenames.txt`` (the names of all the benchmark's images, in the order of the
+two light files), ``light_directions.txt`` (one unit vector toward the light per line, camera frame
+x right, y up, z toward the camera: ShadeCut's), ``light_intensities.txt`` (the RGB intensity of each
+light), ``mask.png`` and ``Normal_gt.mat`` (variable ``Normal_gt``, H x W x 3, same frame). Only the
+images present are imported. The benchmark is research-use data: this module reads it from where the
+user keeps it and writes samples elsewhere; it never ships with ShadeCut.
+
+A sample's image is the mean of R, G and B after dividing each channel by that image's light
+intensity (linear; values may exceed 1 where the intensity is below 1: image.exr keeps them,
+image.png clips). The albedo of a photograph is unknown: the sample records ``albedo`` None. There
+is no measured depth: the sample has no depth.exr (``load_sample`` gives ``depth`` None).
+
+Needs scipy (``scipy.io.loadmat``), imported only when a folder is read.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Iterable, Optional, Union
+
+import numpy as np
+
+from . import dataset as _dataset
+
+REQUIRED = ("filenames.txt", "light_directions.txt", "light_intensities.txt", "mask.png", "Normal_gt.mat")
+CITATION = ("B. Shi, Z. Wu, Z. Mo, D. Duan, S.-K. Yeung, P. Tan, \"A Benchmark Dataset and Evaluation for "
+            "Non-Lambertian and Uncalibrated Photometric Stereo\", CVPR 2016")
+# About 1.5 m from a camera of focal length about 3772 px (the benchmark's calibration): metres per pixel.
+PIXEL_SIZE = 1.5 / 3772.0
+
+
+def is_object_folder(folder: Union[os.PathLike, str]) -> bool:
+    """True when ``folder`` looks like a DiLiGenT object folder (it holds filenames.txt)."""
+    return (Path(folder) / "filenames.txt").is_file()
+
+
+def object_name(folder: Union[os.PathLike, str]) -> str:
+    """The object's name: the folder's name without the benchmark's ``PNG`` suffix (``ballPNG`` -> ``ball``)."""
+    name = Path(folder).resolve().name
+    return name[:-3] if name.endswith("PNG") and len(name) > 3 else name
+
+
+def _table(path: Path, rows: int) -> np.ndarray:
+    try:
+        values = np.loadtxt(path, dtype=np.float64, ndmin=2)
+    except ValueError as error:
+        raise ValueError(f"shadecut: {path} is not a table of numbers: {error}") from None
+    if values.shape != (rows, 3) or not np.isfinite(values).all():
+        raise ValueError(f"shadecut: {path} must hold {rows} lines of 3 numbers (one per line of "
+                         f"filenames.txt); it holds shape {values.shape}")
+    return values
+
+
+def read_layout(source: Union[os.PathLike, str]) -> dict:
+    """Checks an object folder's layout without reading its images or normals.
+
+    Returns ``names`` (filenames.txt), ``lights`` and ``intensities`` ((N, 3) arrays in that order) and
+    ``present`` (the names whose file exists). Raises OSError for a missing folder or file, ValueError
+    for a file whose content does not fit the layout; the message names the path.
+    """
+    source = Path(source)
+    if not source.is_dir():
+        raise OSError(f"shadecut: the DiLiGenT object folder {source} does not exist")
+    missing = [name for name in REQUIRED if not (source / name).is_file()]
+    if missing:
+        raise OSError(f"shadecut: {source} is not a DiLiGenT object folder: it lacks {', '.join(missing)} "
+                      f"(expected {', '.join(REQUIRED)} and NNN.png images)")
+    names = (source / "filenames.txt").read_text().split()
+    if not names:
+        raise ValueError(f"shadecut: {source / 'filenames.txt'} lists no image")
+    lights = _table(source / "light_directions.txt", len(names))
+    intensities = _table(source / "light_intensities.txt", len(names))
+    if not (intensities > 0).all():
+        raise ValueError(f"shadecut: {source / 'light_intensities.txt'} holds an intensity <= 0")
+    present = [name for name in names if (source / name).is_file()]
+    if not present:
+        raise OSError(f"shadecut: {source} holds none of the images filenames.txt lists ({names[0]}, ...)")
+    return {"names": names, "lights": lights, "intensities": intensities, "present": present}
+
+
+def _select(layout: dict, images: Optional[Iterable[Union[int, str]]], source: Path) -> list[str]:
+    """The image names chosen by numbers (7) or names ("007", "007.png"); None = every image present."""
+    if images is None:
+        return list(layout["present"])
+    if isinstance(images, (int, str)):
+        images = [images]
+    chosen = []
+    for image in images:
+        if isinstance(image, (int, np.integer)):
+            matches = [n for n in layout["names"] if Path(n).stem.isdigit() and int(Path(n).stem) == int(image)]
+        else:
+            matches = [n for n in layout["names"] if image in (n, Path(n).stem)]
+        if not matches:
+            raise ValueError(f"shadecut: no image {image!r} in {source / 'filenames.txt'}")
+        if matches[0] not in layout["present"]:
+            raise OSError(f"shadecut: the image {source / matches[0]} is listed but not present")
+        if matches[0] not in chosen:
+            chosen.append(matches[0])
+    if not chosen:
+        raise ValueError("shadecut: images= selects no image")
+    return chosen
+
+
+def _normals(path: Path, shape: tuple) -> np.ndarray:
+    from scipy.io import loadmat  # only here: the add-on's other modules run without scipy
+
+    try:
+        normals = loadmat(str(path))["Normal_gt"]
+    except KeyError:
+        raise ValueError(f"shadecut: {path} holds no variable Normal_gt") from None
+    except (ValueError, TypeError, OSError) as error:
+        raise ValueError(f"shadecut: cannot read {path}: {error}") from None
+    if normals.shape != (*shape, 3):
+        raise ValueError(f"shadecut: {path} holds Normal_gt of shape {normals.shape}; the mask is {shape}, "
+                         f"so (H, W, 3) = {(*shape, 3)} was expected")
+    return np.nan_to_num(np.asarray(normals, dtype=np.float32))
+
+
+def read_photo(source: Union[os.PathLike, str], name: str, intensity) -> np.ndarray:
+    """One photograph as a ShadeCut image: the mean over R, G, B of channel / intensity (linear).
+
+    The PNG's 16-bit codes are read as they are stored (code / 65535, no colour conversion).
+    """
+    path = Path(source) / name
+    pixels, channels = _dataset.read_image_channels(path)
+    if pixels.shape[-1] < 3:
+        raise ValueError(f"shadecut: {path} has channels {channels}; DiLiGenT's photographs are RGB")
+    rgb = pixels[..., :3].astype(np.float64) / np.asarray(intensity, dtype=np.float64)
+    return rgb.mean(axis=-1).astype(np.float32)
+
+
+def import_diligent(source: Union[os.PathLike, str], out: Union[os.PathLike, str],
+                    images: Optional[Iterable[Union[int, str]]] = None) -> list[dict]:
+    """Writes one ShadeCut sample per photograph of a DiLiGenT object folder, and a manifest.
+
+    ``source``: an object folder in the benchmark's layout (see the module docstring). ``out``: the
+    dataset folder to write (sample folders ``<object>_<NNN>``, e.g. ``ball_001``, and
+    ``manifest.json``/``.csv`` listing the samples of this call). ``images``: image numbers or
+    names to import (``[1, 7]``, ``["001.png"]``); None = every image present. Each sample holds the
+    image (see :func:`read_photo`), mask.png's mask, Normal_gt's normals (0 outside the mask), the
+    calibrated light and ``albedo`` None (unknown); no depth. Returns the manifest entries written.
+    Raises OSError/ValueError naming the path for a folder not in the benchmark's layout.
+    """
+    source, out = Path(source), Path(out)
+    layout = read_layout(source)
+    chosen = _select(layout, images, source)
+    mask_pixels, _ = _dataset.read_image_channels(source / "mask.png")
+    mask = mask_pixels[..., 0] > 0.5
+    if not mask.any():
+        raise ValueError(f"shadecut: the mask {source / 'mask.png'} is empty")
+    normals = _normals(source / "Normal_gt.mat", mask.shape)
+    normals = np.where(mask[..., None], normals, 0).astype(np.float32)
+    obj = object_name(source)
+
+    entries = []
+    for name in chosen:
+        index = layout["names"].index(name)
+        image = read_photo(source, name, layout["intensities"][index])
+        if image.shape != mask.shape:
+            raise ValueError(f"shadecut: {source / name} is {image.shape[1]} x {image.shape[0]} pixels; "
+                             f"the mask is {mask.shape[1]} x {mask.shape[0]}")
+        sample_id = f"{obj}_{Path(name).stem}"
+        light = _dataset.light_direction(layout["lights"][index]).tolist()
+        meta = {"id": sample_id, "shape": obj, "pixel_size": PIXEL_SIZE, "source": "DiLiGenT",
+                "citation": CITATION, "source_folder": str(source.resolve()), "source_image": name,
+                "light_index": index, "light_intensity": layout["intensities"][index].tolist(),
+                "image_rule": "mean over R, G, B of channel / light intensity, linear",
+                "camera": "perspective, nearly orthographic (focal length about 3772 px, object about 1.5 m away)"}
+        _dataset.write_sample(out / sample_id, image=image, normals=normals, depth=None, mask=mask, light=light,
+                              albedo=None, meta=meta)
+        entries.append({"id": sample_id, "shape": obj, "folder": sample_id, "light": light, "albedo": None,
+                        "size": mask.shape[1], "seed": None, "source_image": name})
+    _dataset.write_manifest(out, entries, {"generator": "shadecut.dataset.import_diligent", "source": "DiLiGenT",
+                                           "source_folder": str(source.resolve()), "citation": CITATION})
+    return entries

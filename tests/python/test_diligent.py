@@ -1,0 +1,193 @@
+"""Importing DiLiGenT's real photographs (shadecut.dataset.import_diligent) and evaluating them.
+
+A tiny object folder in the benchmark's layout is written by the tests themselves; the real
+benchmark (research-use data, never in the repository) is read from ../shared/data/diligent when
+present.
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+import scipy.io
+
+import shadecut
+from shadecut import dataset, evaluation
+
+DILIGENT = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "diligent"
+NAMES = ("001.png", "002.png", "003.png", "004.png")
+PRESENT = ("001.png", "002.png", "004.png")  # 003 is listed but absent, as in the benchmark's subset
+LIGHTS = np.array([[0.3, -0.2, 0.9], [-0.5, 0.1, 0.8], [0.0, 0.6, 0.8], [0.4, 0.4, 0.82]])
+INTENSITIES = np.array([[1.2, 1.5, 2.0], [0.9, 1.1, 1.4], [1.0, 1.0, 1.0], [1.6, 2.1, 2.9]])
+
+
+def _write_png(path: Path, pixels: np.ndarray, kind) -> None:
+    out = oiio.ImageOutput.create(str(path))
+    height, width, channels = pixels.shape
+    assert out.open(str(path), oiio.ImageSpec(width, height, channels, kind)), oiio.geterror()
+    assert out.write_image(pixels)
+    out.close()
+
+
+def write_fixture(folder: Path, width: int = 8, height: int = 6, seed: int = 0) -> dict:
+    """An object folder in DiLiGenT's layout: a Lambertian sphere photographed under LIGHTS, 16-bit
+    RGB codes (plus noise), with Normal_gt non-zero outside the mask (the importer zeroes it there).
+    Returns the codes, normals and mask written."""
+    rng = np.random.default_rng(seed)
+    folder.mkdir(parents=True)
+    rows, cols = np.mgrid[0:height, 0:width]
+    x = (cols - (width - 1) / 2) / (0.48 * min(width, height))
+    y = ((height - 1) / 2 - rows) / (0.48 * min(width, height))
+    mask = x**2 + y**2 < 1
+    normals = np.dstack([x, y, np.sqrt(np.clip(1 - x**2 - y**2, 0, None))])
+    normals[~mask] = (0.0, 0.0, 1.0)
+    codes = {}
+    for index, name in enumerate(NAMES):
+        light = LIGHTS[index] / np.linalg.norm(LIGHTS[index])
+        shading = np.clip(normals @ light, 0, None)[..., None] * 0.7 * INTENSITIES[index] / INTENSITIES[index].max()
+        values = np.clip(shading * 65535 + rng.integers(0, 400, (height, width, 3)), 0, 65535)
+        codes[name] = values.astype(np.uint16)
+        if name in PRESENT:
+            _write_png(folder / name, codes[name], oiio.UINT16)
+    _write_png(folder / "mask.png", np.where(mask, 255, 0).astype(np.uint8)[..., None], oiio.UINT8)
+    scipy.io.savemat(folder / "Normal_gt.mat", {"Normal_gt": normals})
+    (folder / "filenames.txt").write_text("\n".join(NAMES) + "\n")
+    np.savetxt(folder / "light_directions.txt", LIGHTS, fmt="%.4f")
+    np.savetxt(folder / "light_intensities.txt", INTENSITIES, fmt="%.4f")
+    return {"codes": codes, "normals": normals, "mask": mask}
+
+
+@pytest.fixture
+def tiny(tmp_path):
+    return tmp_path / "tinyPNG", write_fixture(tmp_path / "tinyPNG")
+
+
+def test_every_present_image_becomes_a_sample(tiny, tmp_path):
+    source, written = tiny
+    entries = dataset.import_diligent(source, tmp_path / "out")
+    assert [e["id"] for e in entries] == ["tiny_001", "tiny_002", "tiny_004"]
+    assert [e["id"] for e in evaluation.read_manifest(tmp_path / "out")] == ["tiny_001", "tiny_002", "tiny_004"]
+    mask = written["mask"]
+    for entry in entries:
+        name = f"{entry['id'][-3:]}.png"
+        index = NAMES.index(name)
+        sample = dataset.load_sample(tmp_path / "out" / entry["folder"])
+        # The channel mean after dividing each channel by the light's intensity, from the 16-bit codes.
+        expected = (written["codes"][name] / 65535.0 / INTENSITIES[index]).mean(axis=-1)
+        np.testing.assert_allclose(sample.image, expected, rtol=1e-6, atol=1e-7)
+        np.testing.assert_array_equal(sample.mask, mask)
+        np.testing.assert_allclose(sample.light, LIGHTS[index] / np.linalg.norm(LIGHTS[index]), atol=1e-12)
+        np.testing.assert_allclose(sample.normals[mask], written["normals"][mask], atol=1e-7)
+        assert not sample.normals[~mask].any()
+        assert sample.albedo is None and sample.depth is None
+        meta = json.loads((tmp_path / "out" / entry["folder"] / "meta.json").read_text())
+        assert meta["albedo"] is None and meta["shape"] == "tiny" and meta["source_image"] == name
+        assert "depth.exr" not in meta["files"]
+    assert json.loads((tmp_path / "out" / dataset.MANIFEST_JSON).read_text())["samples"][0]["albedo"] is None
+
+
+def test_images_selects_by_number_or_name(tiny, tmp_path):
+    source, _ = tiny
+    entries = dataset.import_diligent(source, tmp_path / "a", images=[4, "001"])
+    assert [e["id"] for e in entries] == ["tiny_004", "tiny_001"]
+    assert sorted(p.name for p in (tmp_path / "a").iterdir() if p.is_dir()) == ["tiny_001", "tiny_004"]
+    assert [e["id"] for e in dataset.import_diligent(source, tmp_path / "b", images="002.png")] == ["tiny_002"]
+    with pytest.raises(OSError, match="003.png is listed but not present"):
+        dataset.import_diligent(source, tmp_path / "c", images=[3])
+    with pytest.raises(ValueError, match="no image 9"):
+        dataset.import_diligent(source, tmp_path / "c", images=[9])
+
+
+@pytest.mark.parametrize("missing", ["filenames.txt", "light_directions.txt", "light_intensities.txt",
+                                     "mask.png", "Normal_gt.mat"])
+def test_a_folder_missing_a_file_is_refused(tiny, tmp_path, missing):
+    source, _ = tiny
+    (source / missing).unlink()
+    with pytest.raises(OSError, match=f"{source}.*lacks {missing}"):
+        dataset.import_diligent(source, tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+def test_malformed_layouts_are_refused(tiny, tmp_path):
+    source, _ = tiny
+    with pytest.raises(OSError, match="nowhere does not exist"):
+        dataset.import_diligent(tmp_path / "nowhere", tmp_path / "out")
+    (source / "light_directions.txt").write_text("0 0 1\n")
+    with pytest.raises(ValueError, match="light_directions.txt must hold 4 lines of 3 numbers"):
+        dataset.import_diligent(source, tmp_path / "out")
+    np.savetxt(source / "light_directions.txt", LIGHTS)
+    scipy.io.savemat(source / "Normal_gt.mat", {"Normal_gt": np.zeros((3, 3, 3))})
+    with pytest.raises(ValueError, match="Normal_gt.mat holds Normal_gt of shape"):
+        dataset.import_diligent(source, tmp_path / "out")
+    for name in PRESENT:
+        (source / name).unlink()
+    with pytest.raises(OSError, match="holds none of the images"):
+        dataset.import_diligent(source, tmp_path / "out")
+
+
+def test_find_objects_accepts_an_object_or_a_folder_of_them(tiny, tmp_path):
+    source, _ = tiny
+    assert evaluation.find_objects(source) == [source]
+    assert evaluation.find_objects(tmp_path) == [source]
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(evaluation.EvaluationError, match="empty is neither a DiLiGenT object folder"):
+        evaluation.find_objects(tmp_path / "empty")
+    with pytest.raises(evaluation.EvaluationError, match="nowhere does not exist"):
+        evaluation.find_objects(tmp_path / "nowhere")
+    (source / "mask.png").unlink()
+    with pytest.raises(evaluation.EvaluationError, match="lacks mask.png"):
+        evaluation.find_objects(tmp_path)
+
+
+def test_the_evaluation_measures_the_flat_plane_and_both_lights(tmp_path):
+    source = tmp_path / "spherePNG"
+    written = write_fixture(source, width=40, height=32)
+    imported = evaluation.import_objects([source], tmp_path / "out", log=lambda line: None)
+    lines = []
+    assert evaluation.import_objects([source], tmp_path / "out", log=lines.append) == imported
+    assert lines[0].startswith("reusing the imported DiLiGenT object")
+    real = evaluation.evaluate_real(imported, ("lee_rosenfeld",), figures_dir=tmp_path, log=lambda line: None)
+    part = real["objects"]["sphere"]
+    assert [(r["sample"], r["method"], r["light"]) for r in part["records"][:3]] == [
+        ("sphere_001", "flat plane", None), ("sphere_001", "lee_rosenfeld", "calibrated"),
+        ("sphere_001", "lee_rosenfeld", "estimated")]
+    assert len(part["records"]) == 3 * 3 and all(r["status"] == "ok" for r in part["records"])
+    inside = shadecut.erode_mask(written["mask"], evaluation.ERODE_PIXELS)
+    flat_angles = np.degrees(np.arccos(np.clip(written["normals"][inside][:, 2], -1, 1)))
+    assert part["records"][0]["mean_deg"] == pytest.approx(flat_angles.mean(), rel=1e-5)
+    assert part["summary"]["flat"]["mean_deg"] == pytest.approx(flat_angles.mean(), rel=1e-5)
+    assert part["records"][1]["light_error_deg"] is None and part["records"][2]["light_error_deg"] is not None
+    assert part["records"][1]["depth_rmse"] is None  # no measured depth on a photograph
+    calibrated = part["samples"][0]
+    assert calibrated["albedo"] is None
+    sample = dataset.load_sample(imported["sphere"] / "sphere_001")
+    result = shadecut.reconstruct(sample.image, sample.light, sample.mask, None, method="lee_rosenfeld")
+    assert calibrated["used_albedo"] == pytest.approx(result.albedo)  # estimated by reconstruct()
+    assert part["records"][1]["mean_deg"] == pytest.approx(evaluation.normal_errors(
+        result.normals, sample.normals, sample.mask)["mean_deg"])
+    assert [Path(f).name for f in part["figures"]] == ["diligent_sphere_calibrated.png",
+                                                      "diligent_sphere_estimated.png"]
+    table = evaluation.real_table(part)
+    assert "| any | **flat plane** |" in table and "| calibrated | lee_rosenfeld |" in table
+    assert "| estimated | lee_rosenfeld |" in table
+
+
+@pytest.mark.skipif(not (DILIGENT / "ballPNG").is_dir(),
+                    reason=f"DiLiGenT is not at {DILIGENT} (expects ballPNG/ there in the benchmark's layout)")
+def test_the_ball_of_the_benchmark(tmp_path):
+    source = DILIGENT / "ballPNG"
+    entries = dataset.import_diligent(source, tmp_path)
+    assert len(entries) == 19 and entries[0]["id"] == "ball_001" and entries[-1]["id"] == "ball_092"
+    truth = scipy.io.loadmat(source / "Normal_gt.mat")["Normal_gt"]
+    for entry in entries:
+        sample = dataset.load_sample(tmp_path / entry["folder"])
+        assert sample.image.shape == (512, 612)
+        np.testing.assert_allclose(sample.normals[sample.mask], truth[sample.mask], atol=1e-6)
+        assert not sample.normals[~sample.mask].any()
+        # The frame: the measured normals lit by the calibrated light explain the photograph (the
+        # unsaturated pixels), which a mirrored x or y would not.
+        lit = sample.mask & (sample.image < 0.9 * sample.image[sample.mask].max())
+        shading = np.clip(sample.normals[lit] @ sample.light, 0, None)
+        assert np.corrcoef(shading, sample.image[lit])[0, 1] > 0.8, entry["id"]
