@@ -8,9 +8,18 @@ the training surfaces rendered at every size of --sizes, of the mean angular err
 by 2 pixels; the best wins. Scoring at more than one resolution keeps the choice from fitting one
 pixel scale; the mean per size is printed beside the score to show how far apart they are.
 
+The albedo estimate (top_fit's window) is chosen by the same procedure with --albedo: the training
+surfaces are rendered under their own light and a grazing one (slant 60 degrees), at two albedos,
+clean and with Blinn-Phong highlights of several widths and strengths, clipped at 1 like a
+saturated photograph, and every window on the grid is scored by the
+mean relative error of the albedo it estimates (the true light is given); then, with that window, the
+agreement under which the brightest value is kept instead, by the same score. Then
+the threshold above which pixels count as highlights (filled from their neighbours) is scored by
+graphcut's mean angular error on the same renders, the albedo estimated.
+
 Run: PYTHONPATH=addon /usr/bin/python3 scripts/tune_parameters.py [--methods NAME ...] [--sizes N ...]
 (every method of the grid, at 128 and 256 pixels, by default; --methods tunes only those named, by
-the same procedure).
+the same procedure; --albedo tunes only the albedo estimate).
 """
 
 from __future__ import annotations
@@ -65,13 +74,81 @@ GRID = {
 }
 
 
+ALBEDO_WINDOWS = [(start, end) for start in (0.0, 0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6) for end in (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 0.9, 1.0)
+                  if start < end]
+ALBEDO_AGREEMENTS = (0.0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 1.0)
+HIGHLIGHT_THRESHOLDS = (0.0, 1.05, 1.1, 1.2, 1.5, 2.0)
+TRAINING_ALBEDOS = (0.2, 0.5)
+# (strength, shininess) of the Blinn-Phong lobe added to the Lambertian image; (0, 1) is none.
+TRAINING_HIGHLIGHTS = ((0.0, 1.0), (0.3, 20.0), (0.5, 100.0), (1.0, 50.0), (2.0, 300.0))
+
+
+def steep_light(light, slant_degrees: float = 60.0) -> np.ndarray:
+    """A light of this slant from the side opposite ``light``'s tilt: the albedo's training covers
+    grazing lights as well as the surfaces' own."""
+    tilt = np.arctan2(light[1], light[0]) + np.pi
+    slant = np.radians(slant_degrees)
+    return np.array([np.sin(slant) * np.cos(tilt), np.sin(slant) * np.sin(tilt), np.cos(slant)])
+
+
+def with_highlight(scene: synthetic.Scene, light, albedo: float, strength: float, shininess: float) -> np.ndarray:
+    """The scene under ``light`` at this albedo plus a specular lobe around the half vector, clipped at 1."""
+    light = np.asarray(light, float) / np.linalg.norm(light)
+    half = (light + (0.0, 0.0, 1.0)) / np.linalg.norm(light + (0.0, 0.0, 1.0))
+    facing = np.clip(scene.normals @ light, 0.0, None)
+    lobe = strength * np.clip(scene.normals @ half, 0.0, None) ** shininess * (facing > 0)
+    return np.clip(np.where(scene.mask, albedo * facing + lobe, 0.0), 0.0, 1.0).astype(np.float32)
+
+
+def tune_albedo(surfaces: dict) -> None:
+    renders = [(with_highlight(scene, light, albedo, strength, shininess), scene, light, albedo)
+               for scenes in surfaces.values() for scene in scenes.values()
+               for light in (scene.light, steep_light(scene.light))
+               for albedo in TRAINING_ALBEDOS for strength, shininess in TRAINING_HIGHLIGHTS]
+    images = [(image, scene, albedo) for image, scene, _, albedo in renders]
+    scored = sorted(
+        (float(np.mean([abs(shadecut.estimate_albedo(image, scene.mask, "top_fit", (*window, 0.0)) / albedo - 1.0)
+                        for image, scene, albedo in images])), window)
+        for window in ALBEDO_WINDOWS)
+    brightest = np.mean([abs(shadecut.estimate_albedo(image, scene.mask, "brightest") / albedo - 1.0)
+                         for image, scene, albedo in images])
+    print(f"albedo: mean relative error of top_fit's five best windows over {len(images)} training images "
+          f"(brightest: {brightest:.4f})")
+    for score, window in scored[:5]:
+        print(f"  {score:.4f}  from {window[0]} to {window[1]}")
+    print(f"  chosen window: {scored[0][1]}")
+    window = scored[0][1]
+    by_agreement = sorted(
+        (float(np.mean([abs(shadecut.estimate_albedo(image, scene.mask, "top_fit", (*window, agreement)) / albedo - 1.0)
+                        for image, scene, albedo in images])), agreement)
+        for agreement in ALBEDO_AGREEMENTS)
+    for score, agreement in by_agreement:
+        print(f"  agreement {agreement}: {score:.4f}")
+    window = (*window, by_agreement[0][1])
+    print(f"  chosen agreement: {window[2]}")
+    by_threshold = []
+    for threshold in HIGHLIGHT_THRESHOLDS:
+        errors = [scene.mean_error(shadecut.reconstruct(
+                      image, light, scene.mask,
+                      albedo=shadecut.estimate_albedo(image, scene.mask, "top_fit", window),
+                      highlight_threshold=threshold).normals)
+                  for image, scene, light, _ in renders]
+        by_threshold.append((float(np.mean(errors)), threshold))
+        print(f"  highlight_threshold {threshold}: graphcut {by_threshold[-1][0]:.2f} deg", flush=True)
+    print(f"  chosen highlight_threshold: {min(by_threshold)[1]}")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--methods", nargs="+", choices=list(GRID), default=list(GRID))
     parser.add_argument("--sizes", nargs="+", type=int, default=[128, 256],
                         help="image sizes (pixels) at which every training surface is rendered")
+    parser.add_argument("--albedo", action="store_true", help="tune only the albedo estimate (top_fit's window)")
     args = parser.parse_args()
     surfaces = {size: training_surfaces(size) for size in args.sizes}
+    if args.albedo:
+        tune_albedo(surfaces)
+        return 0
     for method in args.methods:
         grid = GRID[method]
         names = list(grid)

@@ -39,6 +39,8 @@ ReconstructStats = _core.ReconstructStats
 Method = _core.Method
 Integrator = _core.Integrator
 LightMethod = _core.LightMethod
+AlbedoMethod = _core.AlbedoMethod
+SceneKind = _core.SceneKind
 
 MIN_LABELS: int = _core.MIN_LABELS
 """The fewest tilt labels ``labels`` may be."""
@@ -101,8 +103,8 @@ def reconstruct(
             None = estimated from the image by the ``light_method`` option (see :func:`estimate_light`),
             and then also the albedo unless given; ``stats.light_estimated`` says so.
         mask: (H, W) bool pixels to reconstruct; None = every pixel.
-        albedo: > 0; None = estimated with the light, or with a given light the brightest value of the
-            3 x 3 median-filtered image in the mask (:func:`estimate_albedo`).
+        albedo: > 0; None = estimated with the light, or with a given light by the ``albedo_method``
+            option (:func:`estimate_albedo`).
         options: a :class:`ReconstructOptions`; None = the defaults.
         progress: called as progress(fraction, stage); a false answer raises :class:`Cancelled`.
         **overrides: fields of :class:`ReconstructOptions` to change (``method="lee_rosenfeld"``,
@@ -176,9 +178,21 @@ def estimate_light(image, mask=None, method: Optional[str] = None) -> tuple[np.n
     return np.asarray(light), float(albedo)
 
 
-def estimate_albedo(image, mask=None) -> float:
-    """The albedo reconstruct() uses when none is given."""
-    return _core.estimate_albedo(np.asarray(image), _mask(mask))
+def estimate_albedo(image, mask=None, method: Optional[str] = None,
+                    window: Optional[tuple[float, float, float]] = None) -> float:
+    """The albedo :func:`reconstruct` uses when a light but no albedo is given.
+
+    ``method``: "top_fit" (the intensity at which a line fitted to the squared intensities of the
+    object's brightest 40-80 %, against their share of its area, reaches share 0: highlights and
+    saturated spots brighter than that window do not move it; the brightest value when it agrees
+    with the fit) or "brightest" (the largest value of the 3 x 3 median-filtered image). None = the ``albedo_method`` default of :class:`ReconstructOptions`.
+    ``window``: top_fit's (from, to, agreement): the shares of the area fitted and how far (relative)
+    the brightest value may exceed the fit and still be taken as the albedo of a clean image; None =
+    the tuned default.
+    """
+    if method is None:
+        method = ReconstructOptions().albedo_method
+    return _core.estimate_albedo(np.asarray(image), _mask(mask), getattr(method, "name", method), window)
 
 
 def load_image(path: str | os.PathLike, color_space: str = "auto") -> LoadedImage:

@@ -114,3 +114,28 @@ def mozart(path: str | os.PathLike, light: Sequence[float] = (1.0, 0.0, 1.0), al
     depth = read_depth_text(path).astype(np.float32)
     mask = depth > 0
     return _scene(normals_from_depth(depth, mask), depth, mask, light, albedo)
+
+
+def bricks(light: Sequence[float], size: int = 256, brick: tuple = (32, 12), mortar: float = 1.5, height: float = 4.0,
+           bevel: float = 2.0, albedo: float = 0.7, albedo_noise: float = 0.05, seed: int = 0) -> Scene:
+    """A brick wall filling the frame: running-bond bricks ``brick`` = (width, height) pixels standing
+    ``height`` pixels above mortar grooves ``mortar`` pixels wide, their edges rounded over ``bevel``
+    pixels; the albedo varies by +-``albedo_noise`` (uniform, per pixel) around ``albedo``. The image
+    is rendered with that varying albedo; ``Scene.albedo`` is the mean."""
+    rows, cols = np.mgrid[0:size, 0:size].astype(np.float64)
+    width, course = brick
+    shift = np.where((rows // course) % 2 == 1, width / 2, 0.0)
+    # Distance to the nearest mortar line, horizontal or vertical, within the pixel's own brick.
+    along = np.abs(((cols + shift) % width) - width / 2)
+    across = np.abs((rows % course) - course / 2)
+    distance = np.minimum(width / 2 - along, course / 2 - across) - mortar / 2
+    ramp = np.clip(distance / bevel, 0.0, 1.0)
+    depth = height * ramp * ramp * (3 - 2 * ramp)  # smoothstep: edges rounded, tops flat
+    dz_drow, dz_dcol = np.gradient(depth)
+    normals = np.dstack([-dz_dcol, dz_drow, np.ones_like(depth)])  # y is up: dz/dy = -dz/drow
+    normals /= np.linalg.norm(normals, axis=2, keepdims=True)
+    mask = np.ones((size, size), bool)
+    variation = 1.0 + np.random.default_rng(seed).uniform(-albedo_noise, albedo_noise, (size, size))
+    image = render(normals.astype(np.float32), light, 1.0, mask) * (albedo * variation).astype(np.float32)
+    return Scene(image.astype(np.float32), normals.astype(np.float32), depth.astype(np.float32), mask, tuple(light),
+                 albedo)

@@ -71,10 +71,13 @@ void bind_reconstruct(py::module_& m) {
                     {Method::GraphCut, Method::GraphCutTwo, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah});
   bind_enum<Integrator>(m, "Integrator", "Normal integrators", {Integrator::Poisson, Integrator::FrankotChellappa});
   bind_enum<LightMethod>(m, "LightMethod", "Light estimators", {LightMethod::LeeRosenfeld, LightMethod::ZhengChellappa});
+  bind_enum<SceneKind>(m, "SceneKind", "What the image shows", {SceneKind::Object, SceneKind::Relief});
+  bind_enum<AlbedoMethod>(m, "AlbedoMethod", "Albedo estimators", {AlbedoMethod::Brightest, AlbedoMethod::TopFit});
 
   py::class_<ReconstructOptions> options(m, "ReconstructOptions",
                                          "Every setting of reconstruct() with its default (native/include/shadecut/reconstruct.hpp).");
   std::vector<std::string> names;
+  enum_option(options, names, "scene", &ReconstructOptions::scene, &parse_scene_kind);
   enum_option(options, names, "method", &ReconstructOptions::method, &parse_method);
   option(options, names, "labels", &ReconstructOptions::labels);
   option(options, names, "data_weight", &ReconstructOptions::data_weight);
@@ -86,6 +89,8 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "iterations", &ReconstructOptions::iterations);
   option(options, names, "smoothness", &ReconstructOptions::smoothness);
   enum_option(options, names, "light_method", &ReconstructOptions::light_method, &parse_light_method);
+  enum_option(options, names, "albedo_method", &ReconstructOptions::albedo_method, &parse_albedo_method);
+  option(options, names, "highlight_threshold", &ReconstructOptions::highlight_threshold);
   option(options, names, "min_curvature", &ReconstructOptions::min_curvature);
   option(options, names, "refine", &ReconstructOptions::refine);
   option(options, names, "max_slope", &ReconstructOptions::max_slope);

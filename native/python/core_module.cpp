@@ -56,9 +56,12 @@ PYBIND11_MODULE(_core, m) {
     return py::make_tuple(std::vector<double>{estimate.light.x(), estimate.light.y(), estimate.light.z()}, estimate.albedo);
   });
 
-  m.def("estimate_albedo", [](const FloatArray& image, const std::optional<BoolArray>& mask) {
+  m.def("estimate_albedo", [](const FloatArray& image, const std::optional<BoolArray>& mask, const std::string& method,
+                              std::optional<std::tuple<double, double, double>> window) {
     const ImageF img = to_image(image, "image");
-    return shadecut::estimate_albedo(img, mask_or_all(mask, img.rows(), img.cols()));
+    shadecut::TopFitWindow top_fit;
+    if (window) top_fit = {std::get<0>(*window), std::get<1>(*window), std::get<2>(*window)};
+    return shadecut::estimate_albedo(img, mask_or_all(mask, img.rows(), img.cols()), shadecut::parse_albedo_method(method), top_fit);
   });
 
   m.def("normals_from_depth", [](const FloatArray& depth, const std::optional<BoolArray>& mask) {

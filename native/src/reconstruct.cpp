@@ -5,6 +5,7 @@
 #include <shadecut/global_step.hpp>
 #include <shadecut/light.hpp>
 #include <shadecut/local_shape.hpp>
+#include <shadecut/relief.hpp>
 #include <shadecut/render.hpp>
 #include <shadecut/shadow_fill.hpp>
 #include <shadecut/tsai_shah.hpp>
@@ -13,7 +14,6 @@
 #include "enum_names.hpp"
 #include "stopwatch.hpp"
 
-#include <opencv2/imgproc.hpp>
 #include <omp.h>
 
 namespace shadecut {
@@ -59,11 +59,14 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, const std::opt
     result.stats.seconds["light"] = stopwatch.seconds();
     result.stats.light_estimated = true;
     direction = estimate.light;
-    if (!albedo) albedo = estimate.albedo;
+    // The estimators' albedo assumes a sphere's normals; a relief's comes from its mean.
+    if (!albedo && options.scene == SceneKind::Object) albedo = estimate.albedo;
   }
   const LightFrame frame = LightFrame::from_direction(direction);
   result.light = frame.direction;
-  result.albedo = albedo ? *albedo : estimate_albedo(image, mask);
+  if (albedo) result.albedo = *albedo;
+  else if (options.scene == SceneKind::Relief) result.albedo = relief_albedo(image, mask, frame.direction);
+  else result.albedo = estimate_albedo(image, mask, options.albedo_method);
   if (!(result.albedo > 0.0) || !std::isfinite(result.albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
   if ((image * mask.cast<float>()).maxCoeff() <= 1e-6f * result.albedo)
     throw InvalidArgument("shadecut: the image is dark everywhere in the mask; nothing to reconstruct");
@@ -84,7 +87,7 @@ NormalMap brooks_horn_normals(const ImageF& image, const Mask& mask, const Light
   params.smoothness = std::max(kStableSmoothness, smoothness * per_pixel);
   params.iterations = options.iterations.value_or(defaults.iterations);
   params.tolerance = options.tolerance.value_or(defaults.tolerance);
-  params.occluding_contour = options.occluding_contour;
+  params.occluding_contour = options.occluding_contour && options.scene == SceneKind::Object;
   BrooksHornResult solved = brooks_horn(image, mask, frame, albedo, params, progress);
   stats.iterations = solved.iterations;
   return std::move(solved.normals);
@@ -153,6 +156,15 @@ NormalMap solve_normals(const ImageF& image, const Mask& mask, const LightFrame&
 
 }  // namespace
 
+const std::vector<std::string>& scene_kind_names() {
+  static const std::vector<std::string> names{"object", "relief"};
+  return names;
+}
+
+SceneKind parse_scene_kind(const std::string& name) { return parse_enum<SceneKind>(scene_kind_names(), name, "scene kind"); }
+
+std::string to_string(SceneKind kind) { return scene_kind_names().at(std::size_t(kind)); }
+
 const std::vector<std::string>& method_names() {
   static const std::vector<std::string> names{"graphcut", "graphcut_two", "lee_rosenfeld", "brooks_horn", "tsai_shah"};
   return names;
@@ -173,19 +185,6 @@ MethodDefaults method_defaults(Method method) {
   throw InvalidArgument("shadecut: unknown method");
 }
 
-double estimate_albedo(const ImageF& image, const Mask& mask) {
-  check_image(image);
-  check_mask(mask, image);
-  ImageF filtered(image.rows(), image.cols());
-  const cv::Mat source(int(image.rows()), int(image.cols()), CV_32F, const_cast<float*>(image.data()));
-  cv::Mat target(int(image.rows()), int(image.cols()), CV_32F, filtered.data());
-  cv::medianBlur(source, target, 3);
-  float brightest = 0.0f;
-  for (Eigen::Index i = 0; i < image.size(); ++i)
-    if (mask.data()[i]) brightest = std::max(brightest, filtered.data()[i]);
-  if (!(brightest > 0.0f)) throw InvalidArgument("shadecut: the image is dark everywhere in the mask; nothing to reconstruct");
-  return brightest;
-}
 
 Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask_in,
                            std::optional<double> albedo, const ReconstructOptions& options) {
@@ -205,10 +204,12 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
 
   progress.report(kNormalsShare, "integration");
   const Stopwatch integration;
-  if (options.fill_shadows)
-    result.stats.shadow_pixels = fill_attached_shadows(result.normals, image, mask, result.albedo,
-                                                       options.shadow_threshold, options.occluding_contour);
+  const double shadow_threshold = options.fill_shadows ? options.shadow_threshold : -1.0;
+  const Mask unreliable = unreliable_pixels(image, mask, result.albedo, shadow_threshold, options.highlight_threshold);
+  const bool outline = options.occluding_contour && options.scene == SceneKind::Object;
+  result.stats.shadow_pixels = fill_normals(result.normals, unreliable, mask, outline);
   result.depth = integrate_normals(result.normals, mask, options.integrator, options.max_slope);
+  if (options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);
   result.stats.seconds["integration"] = integration.seconds();
   progress.report(1.0, "integration");
   result.stats.seconds["total"] = total.seconds();

@@ -6,6 +6,7 @@
 #include <Eigen/SparseCholesky>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace shadecut {
@@ -18,11 +19,18 @@ constexpr double kAnchor = 1e-6;
 
 }  // namespace
 
-int fill_attached_shadows(NormalMap& normals, const ImageF& image, const Mask& mask, double albedo, double threshold,
-                          bool occluding_contour) {
+Mask unreliable_pixels(const ImageF& image, const Mask& mask, double albedo, double shadow_threshold,
+                       double highlight_threshold) {
+  const double dark = shadow_threshold * albedo;
+  const double bright = highlight_threshold > 0.0 ? highlight_threshold * albedo : std::numeric_limits<double>::infinity();
+  const auto intensity = image.cast<double>();
+  return mask && (intensity <= dark || intensity > bright);
+}
+
+int fill_normals(NormalMap& normals, const Mask& fill, const Mask& mask, bool occluding_contour) {
   const int rows = int(mask.rows()), cols = int(mask.cols()), n = rows * cols;
   auto inside = [&](int r, int c) { return r >= 0 && r < rows && c >= 0 && c < cols && mask(r, c); };
-  auto shadowed = [&](int p) { return image.data()[p] <= threshold * albedo; };
+  auto shadowed = [&](int p) { return bool(fill.data()[p]); };
   auto outward = [&](int r, int c) -> Eigen::Vector2d {
     return occluding_contour ? detail::contour_outward(mask, r, c) : Eigen::Vector2d::Zero();
   };

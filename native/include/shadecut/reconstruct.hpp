@@ -1,6 +1,7 @@
 // The whole pipeline: one shaded image in, normals and depth out.
 #pragma once
 
+#include <shadecut/estimate_albedo.hpp>
 #include <shadecut/estimate_light.hpp>
 #include <shadecut/integrate.hpp>
 #include <shadecut/progress.hpp>
@@ -22,6 +23,17 @@ enum class Method {
   BrooksHorn,   ///< "brooks_horn": Brooks & Horn's variational iteration (brooks_horn.hpp), normals integrated
   TsaiShah,     ///< "tsai_shah": Tsai & Shah's linearized depth iteration (tsai_shah.hpp), normals from its depth
 };
+
+/// What the image shows, which fixes what shading alone cannot.
+enum class SceneKind {
+  Object,  ///< "object": an object seen whole against a background; the mask's edge is its outline
+  Relief,  ///< "relief": a surface that fills the frame and on average faces the viewer (relief.hpp):
+           ///< the albedo is mean intensity / S_z and the depth sits on a flat carrier, no ramp
+};
+
+const std::vector<std::string>& scene_kind_names();
+SceneKind parse_scene_kind(const std::string& name);
+std::string to_string(SceneKind kind);
 
 /// Every method's name, in the order of the enum.
 const std::vector<std::string>& method_names();
@@ -48,6 +60,7 @@ constexpr int kMinLabels = 4;
 /// binding, the command-line tool and the Blender add-on read them from here. Per-object weights
 /// are scaled to the object's size by unary_scale (local_shape.hpp).
 struct ReconstructOptions {
+  SceneKind scene = SceneKind::Object;
   Method method = Method::GraphCut;
   int labels = 36;                          ///< K tilt labels
   /// lambda of eq. (15) for an object of kReferenceObjectSize pixels, tuned (graphcut only).
@@ -64,12 +77,16 @@ struct ReconstructOptions {
   /// times (object_size / kReferenceObjectSize)^2, at least kStableSmoothness); unset = method_defaults
   std::optional<double> smoothness;
   LightMethod light_method = LightMethod::ZhengChellappa;  ///< the estimator used when no light is given
+  AlbedoMethod albedo_method = AlbedoMethod::TopFit;       ///< the estimator used when no albedo is given with a light
+  /// Pixels brighter than this times the albedo, which no Lambertian surface of that albedo shows
+  /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never.
+  double highlight_threshold = 1.05;
   std::optional<double> min_curvature;      ///< curvature in units of the object below which the local tilt is undefined (local_shape); unset = method_defaults
   bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
   double max_slope = 10.0;                  ///< gradient clamp of the integrator
-  bool fill_shadows = true;                 ///< interpolate normals in attached shadows (fill_attached_shadows)
+  bool fill_shadows = true;                 ///< interpolate normals in attached shadows (fill_normals)
   double shadow_threshold = 1e-3;           ///< relative intensity at or below which a pixel is in shadow
-  bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling
+  bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling (objects)
   int threads = 0;                          ///< 0 = all cores
   /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
   /// "graphcut", "brooks_horn", "tsai_shah", "integration". Returning false cancels.
@@ -88,7 +105,8 @@ struct ReconstructStats {
   int levels = 0;                           ///< graphcut, graphcut_two: resolutions solved (coarse to fine)
   double maxflow_seconds = 0.0;
   double allowed_label_fraction = 0.0;      ///< share of (pixel, label) pairs left after pruning
-  int shadow_pixels = 0;                    ///< pixels whose normals came from fill_attached_shadows
+  int shadow_pixels = 0;                    ///< pixels whose normals were filled from their neighbours
+                                            ///< (attached shadows and highlights: fill_normals)
 };
 
 struct Reconstruction {
@@ -100,9 +118,6 @@ struct Reconstruction {
   ReconstructStats stats;
 };
 
-/// The albedo estimate used when none is given: the largest value of the 3 x 3 median-filtered image
-/// inside the mask, i.e. the brightness of a pixel facing the light, robust to isolated hot pixels.
-double estimate_albedo(const ImageF& image, const Mask& mask);
 
 /// Reconstructs normals and depth from one Lambertian image.
 ///
@@ -111,7 +126,7 @@ double estimate_albedo(const ImageF& image, const Mask& mask);
 ///                    std::nullopt to estimate it with options.light_method (estimate_light.hpp).
 /// @param[in] mask    H x W pixels to reconstruct, or nullptr for all.
 /// @param[in] albedo  > 0, or std::nullopt: the light estimator's albedo when the light is estimated,
-///                    estimate_albedo otherwise.
+///                    estimate_albedo with options.albedo_method otherwise.
 /// @param[in] options method and parameters.
 /// Throws InvalidArgument for bad input and Cancelled when options.progress returns false.
 Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,

@@ -1,0 +1,27 @@
+// Reliefs: surfaces that fill the frame (a wall, a coin, bark) and on average face the viewer. That
+// one fact fixes what an image of them cannot: the albedo and the lowest frequencies of the depth.
+#pragma once
+
+#include <shadecut/types.hpp>
+
+#include <Eigen/Core>
+
+namespace shadecut {
+
+/// The albedo of a relief: its mean normal is the viewing direction, so the mean intensity is
+/// albedo * S_z (to first order in the slopes). Returns mean(image over mask) / S_z.
+///
+/// @param[in] light unit direction toward the light, S_z > 0.
+/// @throws InvalidArgument for an image dark everywhere in the mask.
+double relief_albedo(const ImageF& image, const Mask& mask, const Eigen::Vector3d& light);
+
+/// Removes the least-squares plane of the masked depth, so that the relief sits on a flat carrier
+/// facing the viewer (no ramp), and tilts the normals to match; then every 4-connected component's
+/// minimum is 0 again.
+///
+/// @param[in,out] depth   H x W, pixel units (x = column, y = -row).
+/// @param[in,out] normals H x W camera-frame unit normals.
+/// @param[in] mask        H x W.
+void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask);
+
+}  // namespace shadecut
