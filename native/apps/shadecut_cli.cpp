@@ -41,6 +41,8 @@ options:
                        unless --albedo is given, the albedo) is estimated from the image
   --light-method NAME  estimator used without --light: )"
        << choices(shadecut::light_method_names()) << " (default " << shadecut::to_string(defaults.light_method) << R"()
+  --scene NAME         )" << choices(shadecut::scene_kind_names()) << " (default " << shadecut::to_string(defaults.scene) << R"(): an object seen
+                       whole, or a relief filling the frame (a wall, a coin) that sits flat, no ramp
   --out DIR            output folder (default shadecut_out)
   --method NAME        )" << choices(shadecut::method_names()) << " (default " << shadecut::to_string(defaults.method) << R"()
   --albedo A           albedo (default: estimated from the brightest pixels)
@@ -124,6 +126,8 @@ int main(int argc, char** argv) {
         light = parse_light(value());
       } else if (arg == "--light-method") {
         options.light_method = shadecut::parse_light_method(value());
+      } else if (arg == "--scene") {
+        options.scene = shadecut::parse_scene_kind(value());
       } else if (arg == "--out") {
         out_dir = value();
       } else if (arg == "--method") {

@@ -5,15 +5,22 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <limits>
 #include <vector>
 
 namespace shadecut {
 
 double relief_albedo(const ImageF& image, const Mask& mask, const Eigen::Vector3d& light) {
-  const double mean = (image * mask.cast<float>()).cast<double>().sum() / double(std::max<Eigen::Index>(1, mask.count()));
-  if (!(mean > 0.0)) throw InvalidArgument("shadecut: the image is dark everywhere in the mask; nothing to reconstruct");
-  return mean / light.z();
+  std::vector<float> values;
+  values.reserve(std::size_t(mask.count()));
+  for (Eigen::Index i = 0; i < image.size(); ++i)
+    if (mask.data()[i]) values.push_back(image.data()[i]);
+  if (values.empty()) throw InvalidArgument("shadecut: the mask selects no pixel");
+  const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  if (!(*middle > 0.0f)) throw InvalidArgument("shadecut: the image is dark in most of the relief; nothing to reconstruct");
+  return double(*middle) / light.z();
 }
 
 void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {

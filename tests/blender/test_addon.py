@@ -327,3 +327,27 @@ def test_a_blender_render_reconstructs_in_two_clicks(addon, tmp_path):
     error = shadecut.angular_error(mesh_normals, truth.normals, shadecut.erode_mask(truth.mask, 2))
     print(f"Cycles sphere, light (1.5, 0.866, 1): mesh normals {error:.2f} deg from the truth")
     assert error < 5
+
+
+def test_a_relief_sits_flat_and_keeps_under_the_height_limit(addon, tmp_path):
+    light = (0.6, 0.3, 1.0)
+    wall = synthetic.bricks(light, size=96)
+    path = tmp_path / "bricks.png"
+    shadecut.save_image(path, wall.image)
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", light
+    settings.scene, settings.width = "relief", 2.0
+
+    def heights():
+        assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+        co = np.empty(3 * len(bpy.context.active_object.data.vertices), np.float32)
+        bpy.context.active_object.data.vertices.foreach_get("co", co)
+        return co.reshape(-1, 3)
+
+    co = heights()
+    basis = np.column_stack([co[:, 0], co[:, 1], np.ones(len(co))])
+    slope = np.hypot(*np.linalg.lstsq(basis, co[:, 2], rcond=None)[0][:2])
+    assert slope <= 0.01  # a flat carrier: no ramp
+    settings.max_height = 0.05
+    assert np.ptp(heights()[:, 2]) == pytest.approx(0.05, rel=1e-3)

@@ -82,6 +82,9 @@ TEST(Relief, AlbedoFromTheMeanAndNoRampAfterFlattening) {
   EXPECT_LT(depth.maxCoeff() - depth.minCoeff(), 3.5f);  // the bump's 3 px, no ramp of 0.2 * 64
   const ImageF flat = ImageF::Constant(8, 8, 0.4f);
   EXPECT_NEAR(relief_albedo(flat, Mask::Constant(8, 8, true), Eigen::Vector3d(0.6, 0, 0.8)), 0.5, 1e-6);
+  ImageF grooved = flat;
+  grooved.row(0).setConstant(0.05f);  // a dark groove does not move the median
+  EXPECT_NEAR(relief_albedo(grooved, Mask::Constant(8, 8, true), Eigen::Vector3d(0.6, 0, 0.8)), 0.5, 1e-6);
 }
 
 }  // namespace

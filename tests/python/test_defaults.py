@@ -21,6 +21,7 @@ def cli_default(help_text: str, flag: str) -> str:
 def test_the_cli_help_states_the_bound_defaults():
     help_text = subprocess.run([str(CLI), "--help"], capture_output=True, text=True, check=True).stdout
     assert cli_default(help_text, "--method") == DEFAULTS.method.name
+    assert cli_default(help_text, "--scene") == DEFAULTS.scene.name
     assert cli_default(help_text, "--light-method") == DEFAULTS.light_method.name
     assert cli_default(help_text, "--integrator") == DEFAULTS.integrator.name
     assert int(cli_default(help_text, "--labels")) == DEFAULTS.labels

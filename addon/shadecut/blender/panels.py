@@ -28,6 +28,7 @@ def draw_reconstruct_settings(layout, settings) -> None:
         column.prop(settings, "light_direction")
 
     column = layout.column()
+    column.prop(settings, "scene")
     column.prop(settings, "method")
     column.prop(settings, "labels")
     column.prop(settings, "data_weight")
@@ -42,6 +43,7 @@ def draw_reconstruct_settings(layout, settings) -> None:
     column.prop(settings, "output")
     column.prop(settings, "width")
     column.prop(settings, "depth_scale")
+    column.prop(settings, "max_height")
     column.prop(settings, "density")
     column.prop(settings, "normal_map")
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import bpy
 
-from ..api import MIN_LABELS, Integrator, ReconstructOptions
+from ..api import MIN_LABELS, Integrator, ReconstructOptions, SceneKind
 from . import lambertian
 from .preferences import METHOD_ITEMS
 
@@ -15,6 +15,11 @@ INTEGRATOR_DESCRIPTIONS = {
     "poisson": ("Poisson", "Least squares on the mask"),
     "frankot_chellappa": ("Frankot-Chellappa", "Fourier projection on the whole image"),
 }
+SCENE_DESCRIPTIONS = {
+    "object": ("Object", "An object seen whole against a background (a statue, a toy): its outline is a silhouette"),
+    "relief": ("Relief", "A surface that fills the frame (a wall, a coin, bark): it sits flat, with no ramp"),
+}
+SCENE_ITEMS = tuple((name, *SCENE_DESCRIPTIONS.get(name, (name, name))) for name in SceneKind.__members__)
 INTEGRATOR_ITEMS = tuple((name, *INTEGRATOR_DESCRIPTIONS.get(name, (name, name))) for name in Integrator.__members__)
 
 
@@ -72,6 +77,10 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         name="Camera", type=bpy.types.Object, poll=_is_camera, description="Empty = the scene's camera",
     )
 
+    scene: bpy.props.EnumProperty(
+        name="Scene", items=SCENE_ITEMS, default=DEFAULTS.scene.name,
+        description="What the image shows: an object seen whole, or a relief that fills the frame",
+    )
     method: bpy.props.EnumProperty(
         name="Method",
         items=(("DEFAULT", "Default", "The default method of the add-on's preferences"), *METHOD_ITEMS),
@@ -108,6 +117,10 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     depth_scale: bpy.props.FloatProperty(
         name="Depth scale", default=1.0, soft_min=0.0, soft_max=10.0,
         description="Multiplies the reconstructed heights (1 = true proportions)",
+    )
+    max_height: bpy.props.FloatProperty(
+        name="Max height", default=0.0, min=0.0, soft_max=10.0, unit="LENGTH",
+        description="Scale the heights down so that the result is at most this high (0 = no limit)",
     )
     density: bpy.props.IntProperty(
         name="Density", default=1, min=1, soft_max=16,

@@ -14,7 +14,7 @@ import numpy as np
 from .. import api, imaging
 from .frames import FrameError, light_in_camera_frame
 from .preferences import addon_preferences
-from .result import result_object
+from .result import limited_depth_scale, result_object
 
 # Below this the image is black for the method: it needs shading to read slants from.
 DARK_LIMIT = 1e-4
@@ -135,7 +135,7 @@ def prepare_job(context, filepath: str = "") -> Job:
     method = settings.method
     if method == "DEFAULT":
         method = preferences.default_method if preferences else api.ReconstructOptions().method.name
-    options = dict(method=method, labels=settings.labels, data_weight=settings.data_weight,
+    options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,
                    integrator=settings.integrator, threads=preferences.threads if preferences else 0)
     return Job(
         name=Path(source.name).stem or source.name,
@@ -163,7 +163,9 @@ def finish_job(operator, context, job: Job) -> set[str]:
     result = job.result
     obj = result_object(
         context, job.name, result.depth, result.normals, result.mask,
-        source_image=job.source_image, width=settings.width, depth_scale=settings.depth_scale,
+        source_image=job.source_image, width=settings.width,
+        depth_scale=limited_depth_scale(result.depth, result.mask, settings.width, settings.depth_scale,
+                                        settings.max_height),
         density=settings.density, displace=settings.output == "DISPLACE", normal_map=settings.normal_map,
     )
     light = ", ".join(f"{v:.3f}" for v in result.light)

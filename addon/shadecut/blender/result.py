@@ -55,6 +55,16 @@ def _displace(obj: bpy.types.Object, name: str, depth: np.ndarray, mask: np.ndar
     modifier.strength = strength
 
 
+def limited_depth_scale(depth: np.ndarray, mask: np.ndarray, width: float, depth_scale: float,
+                        max_height: float) -> float:
+    """``depth_scale``, lowered where needed so that the result of ``width`` scene units is at most
+    ``max_height`` scene units high (0 = no limit)."""
+    height = float(np.ptp(depth[mask])) * width / depth.shape[1] * depth_scale if mask.any() else 0.0
+    if max_height > 0 and height > max_height:
+        return depth_scale * max_height / height
+    return depth_scale
+
+
 def result_object(
     context,
     name: str,

@@ -8,8 +8,9 @@
 
 namespace shadecut {
 
-/// The albedo of a relief: its mean normal is the viewing direction, so the mean intensity is
-/// albedo * S_z (to first order in the slopes). Returns mean(image over mask) / S_z.
+/// The albedo of a relief: its typical normal is the viewing direction, so its median intensity is
+/// albedo * S_z. The median, not the mean: steep flanks (a brick's bevel, a groove) would pull the
+/// mean down. Returns median(image over mask) / S_z.
 ///
 /// @param[in] light unit direction toward the light, S_z > 0.
 /// @throws InvalidArgument for an image dark everywhere in the mask.
