@@ -59,3 +59,26 @@ def test_the_cat_beats_the_flat_plane_with_the_calibrated_light(tmp_path):
     errors, flat = errors_of(imported("catPNG", tmp_path))
     print(f"cat, graphcut, calibrated light: mean {errors.mean():.2f} deg; flat plane {flat:.2f}")
     assert errors.mean() < flat
+
+
+def oblique(samples, slant_degrees: float = 15.0) -> list:
+    return [s for s in samples if np.degrees(np.arccos(s.light[2])) >= slant_degrees]
+
+
+def test_the_ball_light_is_estimated_within_six_degrees(ball):
+    # The estimator reads the image clipped at the albedo: the highlight would otherwise pull it.
+    off = [np.degrees(np.arccos(np.clip(shadecut.reconstruct(s.image, None, s.mask).light @ s.light, -1, 1)))
+           for s in oblique(ball)]
+    print(f"ball, estimated light, degrees off the calibrated one: {', '.join(f'{o:.1f}' for o in off)}")
+    assert max(off) <= 6.0
+
+
+@pytest.mark.xfail(strict=True, reason="measured: the light estimated 2.5-5.9 deg off costs more than 1.3 x + 2 deg "
+                                        "on 4 of 16 images (e.g. 001: 11.4 against 5.0 calibrated; 067: 12.2 "
+                                        "against 4.2)")
+def test_the_ball_with_the_estimated_light_nearly_as_good_as_calibrated(ball):
+    for s in oblique(ball):
+        inner = shadecut.erode_mask(s.mask, 2)
+        calibrated = shadecut.angular_error(shadecut.reconstruct(s.image, s.light, s.mask).normals, s.normals, inner)
+        estimated = shadecut.angular_error(shadecut.reconstruct(s.image, None, s.mask).normals, s.normals, inner)
+        assert estimated <= 1.3 * calibrated + 2.0, s.light
