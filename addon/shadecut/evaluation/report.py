@@ -8,6 +8,10 @@ import csv
 import json
 import math
 import os
+import platform
+import shlex
+import sys
+import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional, Sequence
 
@@ -134,6 +138,13 @@ def _json_ready(value):
     return value
 
 
+def provenance() -> str:
+    """Which command measured the tables, when, and on what machine: tables are quoted with it."""
+    command = " ".join(shlex.quote(arg) for arg in sys.argv)
+    return (f"*Measured {time.strftime('%Y-%m-%d')} by `{command}` on {platform.system()} {platform.machine()}, "
+            f"{os.cpu_count()} cores, {platform.python_implementation()} {platform.python_version()}.*")
+
+
 def write_results(out_dir: os.PathLike | str, evaluation: Evaluation, figures: Sequence[str] = ()) -> dict:
     """Writes results.json, results.csv (one row per sample and method) and report.md.
 
@@ -155,7 +166,7 @@ def write_results(out_dir: os.PathLike | str, evaluation: Evaluation, figures: S
     settings = evaluation.settings
     light = (f"estimated from each image (shadecut.estimate_light, {settings['light_method']})"
              if settings.get("light_method") else "given (true)")
-    lines = ["# ShadeCut evaluation", ""]
+    lines = ["# ShadeCut evaluation", "", provenance(), ""]
     if settings.get("dataset") is not None:  # None: only the real photographs were evaluated
         lines += [
             f"Dataset `{settings['dataset']}`: {len(evaluation.samples)} samples; methods "
