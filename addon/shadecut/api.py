@@ -162,7 +162,8 @@ def erode_mask(mask, pixels: int) -> np.ndarray:
     return _core.erode_mask(_mask(mask), int(pixels))
 
 
-def estimate_light(image, mask=None, method: Optional[str] = None) -> tuple[np.ndarray, float]:
+def estimate_light(image, mask=None, method: Optional[str] = None,
+                   albedo: Optional[float] = None) -> tuple[np.ndarray, float]:
     """Estimates (light, albedo) of a Lambertian image: light a (3,) unit vector toward the light.
 
     ``method``: "lee_rosenfeld" (Lee & Rosenfeld 1985: tilt from the mean direction of the intensity
@@ -170,11 +171,13 @@ def estimate_light(image, mask=None, method: Optional[str] = None) -> tuple[np.n
     "zheng_chellappa" (tilt from the mean gradient, slant from the moments of a sphere with its
     attached shadow). Both assume normals spread like a sphere's over the mask, which should cover
     the object only; their measured biases: docs/comparison_methods.md. None = the ``light_method``
-    default of :class:`ReconstructOptions`, the one :func:`reconstruct` uses.
+    default of :class:`ReconstructOptions`, the one :func:`reconstruct` uses. The image is read
+    clipped at ``albedo`` (None = :func:`estimate_albedo`'s), above which a highlight would pull
+    the light toward it, as :func:`reconstruct` does.
     """
     if method is None:
         method = ReconstructOptions().light_method
-    light, albedo = _core.estimate_light(np.asarray(image), _mask(mask), getattr(method, "name", method))
+    light, albedo = _core.estimate_light(np.asarray(image), _mask(mask), getattr(method, "name", method), albedo)
     return np.asarray(light), float(albedo)
 
 

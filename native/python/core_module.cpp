@@ -49,10 +49,12 @@ PYBIND11_MODULE(_core, m) {
   m.attr("METHODS") = py::tuple(py::cast(shadecut::method_names()));
   m.attr("LIGHT_METHODS") = py::tuple(py::cast(shadecut::light_method_names()));
 
-  m.def("estimate_light", [](const FloatArray& image, const std::optional<BoolArray>& mask, const std::string& method) {
+  m.def("estimate_light", [](const FloatArray& image, const std::optional<BoolArray>& mask, const std::string& method,
+                             std::optional<double> albedo) {
     const ImageF img = to_image(image, "image");
     const shadecut::LightMethod estimator = shadecut::parse_light_method(method);
-    const shadecut::LightEstimate estimate = shadecut::estimate_light(img, mask_or_all(mask, img.rows(), img.cols()), estimator);
+    const shadecut::LightEstimate estimate =
+        shadecut::estimate_light(img, mask_or_all(mask, img.rows(), img.cols()), estimator, albedo);
     return py::make_tuple(std::vector<double>{estimate.light.x(), estimate.light.y(), estimate.light.z()}, estimate.albedo);
   });
 

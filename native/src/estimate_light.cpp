@@ -1,6 +1,7 @@
 #include <shadecut/estimate_light.hpp>
 
 #include <shadecut/errors.hpp>
+#include <shadecut/estimate_albedo.hpp>
 #include <shadecut/validate.hpp>
 
 #include "enum_names.hpp"
@@ -34,10 +35,13 @@ LightMethod parse_light_method(const std::string& name) {
 
 std::string to_string(LightMethod method) { return light_method_names().at(std::size_t(method)); }
 
-LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightMethod method) {
-  check_image(image);
-  check_mask(mask, image);
-  if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
+LightEstimate estimate_light(const ImageF& image_in, const Mask& mask, LightMethod method, std::optional<double> ceiling) {
+  check_image(image_in);
+  check_mask(mask, image_in);
+  if (image_in.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
+  // Highlights and saturated spots would pull the light toward them: above the albedo no Lambertian
+  // surface of it shows, so the image is read clipped there.
+  const ImageF image = image_in.min(float(ceiling ? *ceiling : estimate_albedo(image_in, mask)));
   const int rows = int(image.rows()), cols = int(image.cols());
   double sum = 0.0, sum_square = 0.0, count = 0.0;
   Eigen::Vector2d direction_sum = Eigen::Vector2d::Zero(), gradient_sum = Eigen::Vector2d::Zero();

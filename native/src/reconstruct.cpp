@@ -55,10 +55,8 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, const std::opt
   } else {
     progress.report(0.0, "light");
     const Stopwatch stopwatch;
-    // Highlights and saturated spots would pull the estimate toward them: the estimator reads the
-    // image clipped at the albedo, above which no Lambertian surface of it shows.
     const double ceiling = albedo ? *albedo : estimate_albedo(image, mask, options.albedo_method);
-    const LightEstimate estimate = estimate_light(image.min(float(ceiling)), mask, options.light_method);
+    const LightEstimate estimate = estimate_light(image, mask, options.light_method, ceiling);
     result.stats.seconds["light"] = stopwatch.seconds();
     result.stats.light_estimated = true;
     direction = estimate.light;

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,10 +44,16 @@ struct LightEstimate {
 /// object only: background pixels bias the moments. Derivatives are central differences between
 /// masked pixels (y up), taken where both axes have a masked neighbour.
 ///
-/// @param[in] image  H x W linear intensity (>= 2 x 2, finite, >= 0).
-/// @param[in] mask   H x W pixels to use.
-/// @param[in] method which estimator.
+/// The image is read clipped at `ceiling`, the albedo: above it no Lambertian surface of that albedo
+/// shows, and a highlight or saturated spot would pull the light toward it. On a clean image the
+/// default ceiling is its brightest value and changes nothing.
+///
+/// @param[in] image   H x W linear intensity (>= 2 x 2, finite, >= 0).
+/// @param[in] mask    H x W pixels to use.
+/// @param[in] method  which estimator.
+/// @param[in] ceiling the albedo, or std::nullopt for estimate_albedo's (top_fit).
 /// @throws InvalidArgument for bad input or an image dark everywhere in the mask.
-LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightMethod method);
+LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightMethod method,
+                             std::optional<double> ceiling = std::nullopt);
 
 }  // namespace shadecut
