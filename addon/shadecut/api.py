@@ -188,7 +188,8 @@ def estimate_albedo(image, mask=None, method: Optional[str] = None,
     ``method``: "top_fit" (the intensity at which a line fitted to the squared intensities of the
     object's brightest 40-80 %, against their share of its area, reaches share 0: highlights and
     saturated spots brighter than that window do not move it; the brightest value when it agrees
-    with the fit) or "brightest" (the largest value of the 3 x 3 median-filtered image). None = the ``albedo_method`` default of :class:`ReconstructOptions`.
+    with the fit) or "brightest" (the largest value of the 3 x 3 median-filtered image). None =
+    the ``albedo_method`` default of :class:`ReconstructOptions`.
     ``window``: top_fit's (from, to, agreement): the shares of the area fitted and how far (relative)
     the brightest value may exceed the fit and still be taken as the albedo of a clean image; None =
     the tuned default.

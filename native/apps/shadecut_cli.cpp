@@ -45,7 +45,7 @@ options:
                        whole, or a relief filling the frame (a wall, a coin) that sits flat, no ramp
   --out DIR            output folder (default shadecut_out)
   --method NAME        )" << choices(shadecut::method_names()) << " (default " << shadecut::to_string(defaults.method) << R"()
-  --albedo A           albedo (default: estimated from the brightest pixels)
+  --albedo A           albedo (default: read from the shading, robust to highlights)
   --labels K           tilt labels (default )" << defaults.labels << R"()
   --data-weight L      data weight lambda of graphcut (default )" << defaults.data_weight << R"()
   --integrator NAME    )" << choices(shadecut::integrator_names()) << " (default " << shadecut::to_string(defaults.integrator) << R"()
