@@ -199,14 +199,16 @@ def estimate_albedo(image, mask=None, method: Optional[str] = None,
     return _core.estimate_albedo(np.asarray(image), _mask(mask), getattr(method, "name", method), window)
 
 
-def load_image(path: str | os.PathLike, color_space: str = "auto") -> LoadedImage:
+def load_image(path: str | os.PathLike, color_space: str = "auto", max_pixels: Optional[int] = None) -> LoadedImage:
     """Reads an image file as linear intensity through OpenImageIO.
 
     8/16-bit PNG, TIFF, JPEG and float EXR among others. ``color_space="auto"``: float files are
     linear, integer files sRGB unless they say they are linear. Colour becomes Rec. 709 luminance;
-    alpha becomes the mask. Raises OSError for a missing or unreadable file.
+    alpha becomes the mask. Raises OSError for a missing or unreadable file, and before reading
+    any pixel for one whose header declares more than ``max_pixels`` pixels (None = 2^28).
     """
-    image, mask, has_alpha, color_space_used = _core.load_image(os.fspath(path), color_space)
+    limit = _core.DEFAULT_MAX_PIXELS if max_pixels is None else int(max_pixels)
+    image, mask, has_alpha, color_space_used = _core.load_image(os.fspath(path), color_space, limit)
     return LoadedImage(image=image, mask=mask, has_alpha=has_alpha, color_space=color_space_used)
 
 

@@ -6,11 +6,13 @@
 #include <shadecut/reconstruct.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <new>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -50,6 +52,7 @@ options:
   --data-weight L      data weight lambda of graphcut (default )" << defaults.data_weight << R"()
   --integrator NAME    )" << choices(shadecut::integrator_names()) << " (default " << shadecut::to_string(defaults.integrator) << R"()
   --color-space NAME   auto (default), linear or srgb: how the file's values relate to intensity
+  --max-pixels N       refuse an image whose header declares more pixels (default )" << shadecut::kDefaultMaxPixels << R"()
   --tolerance T        stop when a cycle lowers the energy by at most T times it (default: the
                        method's own)
   --band B             coarse to fine: keep the labels within B steps of the half-resolution
@@ -110,6 +113,7 @@ int main(int argc, char** argv) {
   std::string image_path, out_dir = "shadecut_out", color_space = "auto";
   std::optional<Eigen::Vector3d> light;
   std::optional<double> albedo;
+  std::int64_t max_pixels = shadecut::kDefaultMaxPixels;
   bool quiet = false;
   shadecut::ReconstructOptions options;
   try {
@@ -140,6 +144,9 @@ int main(int argc, char** argv) {
         options.data_weight = parse_number(arg, value());
       } else if (arg == "--integrator") {
         options.integrator = shadecut::parse_integrator(value());
+      } else if (arg == "--max-pixels") {
+        max_pixels = parse_integer(arg, value());
+        if (max_pixels < 1) fail("--max-pixels takes a positive whole number");
       } else if (arg == "--color-space") {
         color_space = value();
       } else if (arg == "--tolerance") {
@@ -160,7 +167,7 @@ int main(int argc, char** argv) {
     }
     if (image_path.empty()) fail("no image given");
 
-    const shadecut::LoadedImage input = shadecut::load_image(image_path, shadecut::parse_color_space(color_space));
+    const shadecut::LoadedImage input = shadecut::load_image(image_path, shadecut::parse_color_space(color_space), max_pixels);
     if (!quiet) {
       options.progress = [](double fraction, const std::string& stage) {
         std::fprintf(stderr, "\r%-12s %5.1f%%", stage.c_str(), 100.0 * fraction);
@@ -192,5 +199,7 @@ int main(int argc, char** argv) {
     fail(e.what());
   } catch (const std::filesystem::filesystem_error& e) {
     fail(e.what());
+  } catch (const std::bad_alloc&) {
+    fail("not enough memory for this image; a smaller one, or a lower --max-pixels, fails early");
   }
 }

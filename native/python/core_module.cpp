@@ -137,8 +137,9 @@ PYBIND11_MODULE(_core, m) {
 
   m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });
 
-  m.def("load_image", [](const std::string& path, const std::string& color_space) {
-    const shadecut::LoadedImage loaded = shadecut::load_image(path, shadecut::parse_color_space(color_space));
+  m.attr("DEFAULT_MAX_PIXELS") = shadecut::kDefaultMaxPixels;
+  m.def("load_image", [](const std::string& path, const std::string& color_space, std::int64_t max_pixels) {
+    const shadecut::LoadedImage loaded = shadecut::load_image(path, shadecut::parse_color_space(color_space), max_pixels);
     return py::make_tuple(from_image(loaded.intensity), from_mask(loaded.mask), loaded.has_alpha, loaded.color_space);
   });
 

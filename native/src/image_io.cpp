@@ -130,7 +130,7 @@ ColorSpace parse_color_space(const std::string& name) {
   return parse_enum<ColorSpace>(names, name, "colour space");
 }
 
-LoadedImage load_image(const std::string& path, ColorSpace color_space) {
+LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int64_t max_pixels) {
   OIIO::ImageSpec config;
   // Alpha is only a mask here: the intensities must come back as stored, not premultiplied by it.
   config.attribute("oiio:UnassociatedAlpha", 1);
@@ -140,8 +140,14 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space) {
   if (spec.depth > 1) throw IoError("cannot read image \"" + path + "\": volume images are not supported");
 
   const int channels = spec.nchannels;
-  if (channels < 1) throw IoError("cannot read image \"" + path + "\": it has no channels");
-  const std::size_t pixel_count = std::size_t(spec.width) * std::size_t(spec.height);
+  if (channels < 1 || channels > kMaxChannels)
+    throw IoError("cannot read image \"" + path + "\": it declares " + std::to_string(channels) + " channels");
+  const std::int64_t declared = std::int64_t(spec.width) * std::int64_t(spec.height);
+  if (spec.width < 1 || spec.height < 1 || declared > max_pixels)
+    throw IoError("cannot read image \"" + path + "\": its header declares " + std::to_string(spec.width) + " x " +
+                  std::to_string(spec.height) + " pixels, above the limit of " + std::to_string(max_pixels) +
+                  " (max_pixels)");
+  const std::size_t pixel_count = std::size_t(declared);
   std::vector<float> pixels(pixel_count * std::size_t(channels));
   if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
     throw IoError("cannot read image \"" + path + "\": " + input->geterror());

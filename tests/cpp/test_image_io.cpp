@@ -187,6 +187,19 @@ TEST_F(ImageIO, ParsesColorSpaceNames) {
   EXPECT_THROW(shadecut::parse_color_space("sRGB2"), InvalidArgument);
 }
 
+TEST_F(ImageIO, RefusesAHeaderAboveThePixelLimitBeforeReading) {
+  const std::string file = path("sixteen.png");
+  write_with_oiio(file, 4, 4, 1, OIIO::TypeDesc::UINT8, std::vector<std::uint8_t>(16, 128));
+  EXPECT_EQ(shadecut::load_image(file, ColorSpace::Auto, 16).intensity.size(), 16);
+  try {
+    shadecut::load_image(file, ColorSpace::Auto, 15);
+    FAIL() << "a 4 x 4 image passed a limit of 15 pixels";
+  } catch (const IoError& error) {
+    EXPECT_NE(std::string(error.what()).find("declares 4 x 4 pixels, above the limit of 15"), std::string::npos)
+        << error.what();
+  }
+}
+
 TEST_F(ImageIO, EightBitPngIsDecodedWithTheExactSrgbCurve) {
   // Every byte value once, 16 x 16.
   std::vector<std::uint8_t> bytes(256);

@@ -1,5 +1,10 @@
 """Bad input raises a clear Python exception, never a crash."""
 
+import struct
+import subprocess
+import zlib
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -69,3 +74,31 @@ def test_a_falsy_progress_answer_cancels_and_none_goes_on():
         with pytest.raises(shadecut.Cancelled):
             shadecut.reconstruct(GOOD, LIGHT, progress=lambda fraction, stage: answer)
     shadecut.reconstruct(GOOD, LIGHT, progress=lambda fraction, stage: None)
+
+
+def png_declaring(path, width: int, height: int) -> None:
+    """A tiny, valid-looking PNG whose header claims width x height pixels (its data is 4 x 4)."""
+    small = path.with_name("small.png")
+    shadecut.save_image(small, np.full((4, 4), 0.5, np.float32))
+    data = bytearray(small.read_bytes())
+    ihdr = data.index(b"IHDR")
+    data[ihdr + 4:ihdr + 12] = struct.pack(">II", width, height)
+    data[ihdr + 17:ihdr + 21] = struct.pack(">I", zlib.crc32(bytes(data[ihdr:ihdr + 17])))
+    path.write_bytes(bytes(data))
+
+
+def test_an_image_declaring_too_many_pixels_is_refused_before_allocating(tmp_path):
+    huge = tmp_path / "huge.png"
+    png_declaring(huge, 100000, 100000)
+    with pytest.raises(OSError, match="declares 100000 x 100000 pixels"):
+        shadecut.load_image(huge)
+    cli = Path(__file__).resolve().parents[2] / "build" / "native" / "shadecut"
+    done = subprocess.run([str(cli), str(huge), "--out", str(tmp_path / "out")], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 2 and "declares 100000 x 100000" in done.stderr
+    assert not (tmp_path / "out").exists()
+    # The limit is the caller's to set.
+    png_declaring(tmp_path / "normal.png", 4, 4)
+    assert shadecut.load_image(tmp_path / "normal.png").image.shape == (4, 4)
+    with pytest.raises(OSError, match="above the limit of 8"):
+        shadecut.load_image(tmp_path / "normal.png", max_pixels=8)

@@ -3,6 +3,7 @@
 
 #include <shadecut/types.hpp>
 
+#include <cstdint>
 #include <string>
 
 namespace shadecut {
@@ -16,6 +17,12 @@ enum class ColorSpace {
 
 /// Parses "auto", "linear" or "srgb"; throws InvalidArgument otherwise.
 ColorSpace parse_color_space(const std::string& name);
+
+/// The largest image load_image reads by default: 2^28 pixels (16384 x 16384), about 1 GB per
+/// channel as floats.
+constexpr std::int64_t kDefaultMaxPixels = std::int64_t(1) << 28;
+/// More channels than this is no photograph.
+constexpr int kMaxChannels = 64;
 
 /// An image file read as linear intensity.
 struct LoadedImage {
@@ -31,8 +38,11 @@ struct LoadedImage {
 /// the exact piecewise curve. Auto treats an integer file as linear when its oiio:ColorSpace says
 /// linear ("Linear", "scene_linear", "lin_srgb", ...) or its oiio:Gamma is 1 (a PNG gAMA of 1.0).
 /// Non-finite values are returned as they are. Throws IoError (with the path and OIIO's message) when
-/// the file is missing or unreadable.
-LoadedImage load_image(const std::string& path, ColorSpace color_space = ColorSpace::Auto);
+/// the file is missing or unreadable, and before allocating anything when its header declares more
+/// than `max_pixels` pixels (a 1 KB file can claim 100000 x 100000) or more channels than
+/// kMaxChannels.
+LoadedImage load_image(const std::string& path, ColorSpace color_space = ColorSpace::Auto,
+                       std::int64_t max_pixels = kDefaultMaxPixels);
 
 /// Writes a linear single-channel image (channel Y, plus A = 0 / 1 when alpha is given): float for
 /// .exr/.tif/.tiff (tagged linear), else 16-bit sRGB-encoded integers (tagged sRGB; PNG, or whatever
