@@ -18,6 +18,7 @@ bl_info = {
 from .api import (
     LIGHT_METHODS,
     METHODS,
+    MAX_THREADS,
     MIN_LABELS,
     OPTION_NAMES,
     SceneKind,
@@ -67,6 +68,7 @@ def unregister() -> None:
 __all__ = [
     "LIGHT_METHODS",
     "METHODS",
+    "MAX_THREADS",
     "MIN_LABELS",
     "OPTION_NAMES",
     "SceneKind",

@@ -45,6 +45,9 @@ SceneKind = _core.SceneKind
 MIN_LABELS: int = _core.MIN_LABELS
 """The fewest tilt labels ``labels`` may be."""
 
+MAX_THREADS: int = _core.MAX_THREADS
+"""The most threads ``threads`` may ask for."""
+
 OPTION_NAMES: tuple = tuple(_core.OPTION_NAMES)
 """The names of :class:`ReconstructOptions`' fields, the keywords :func:`reconstruct` takes."""
 

@@ -100,6 +100,7 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "threads", &ReconstructOptions::threads);
   m.attr("OPTION_NAMES") = py::tuple(py::cast(names));
   m.attr("MIN_LABELS") = kMinLabels;
+  m.attr("MAX_THREADS") = kMaxThreads;
   options.def(py::init([](const py::kwargs& overrides) { return replaced(ReconstructOptions{}, overrides); }),
               "The defaults, with the given fields set (unknown names raise TypeError).");
   options.def("replace", &replaced, "A copy with the given fields set.");

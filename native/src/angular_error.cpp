@@ -11,8 +11,8 @@
 namespace shadecut {
 
 ImageF angular_error_map(const NormalMap& a, const NormalMap& b, const Mask& mask) {
-  check_normals(a, int(mask.rows()), int(mask.cols()));
-  check_normals(b, int(mask.rows()), int(mask.cols()));
+  check_normals(b, a.rows, a.cols);
+  check_mask_fits(mask, a);
   ImageF degrees = ImageF::Constant(mask.rows(), mask.cols(), std::numeric_limits<float>::quiet_NaN());
   for (Eigen::Index i = 0; i < a.size(); ++i) {
     if (!mask.data()[i]) continue;

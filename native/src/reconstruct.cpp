@@ -24,7 +24,9 @@ namespace {
 constexpr double kNormalsShare = 0.9;
 
 void check_options(const ReconstructOptions& options) {
-  if (options.threads < 0) throw InvalidArgument("shadecut: threads must be >= 0 (0 = all cores)");
+  if (options.threads < 0 || options.threads > kMaxThreads)
+    throw InvalidArgument("shadecut: threads must be in 0 .. " + std::to_string(kMaxThreads) + " (0 = all cores); got " +
+                          std::to_string(options.threads));
   if (options.labels < kMinLabels)
     throw InvalidArgument("shadecut: labels must be at least " + std::to_string(kMinLabels) + " (got " +
                           std::to_string(options.labels) + ")");
@@ -70,7 +72,8 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, const std::opt
   else result.albedo = estimate_albedo(image, mask, options.albedo_method);
   if (!(result.albedo > 0.0) || !std::isfinite(result.albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
   if ((image * mask.cast<float>()).maxCoeff() <= 1e-6f * result.albedo)
-    throw InvalidArgument("shadecut: the image is dark everywhere in the mask; nothing to reconstruct");
+    throw InvalidArgument("shadecut: the image is dark everywhere in the mask compared with the albedo " +
+                          std::to_string(result.albedo) + "; nothing to reconstruct");
   return frame;
 }
 
@@ -195,6 +198,9 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   check_mask(mask, image);
   if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
   check_options(options);
+  // Cheap, and before the estimates that cost a pass of median filtering over the image.
+  if (!((image * mask.cast<float>()).maxCoeff() > 0.0f))
+    throw InvalidArgument("shadecut: the image is dark everywhere in the mask (zero); nothing to reconstruct");
   const Progress progress(options.progress);
 
   Reconstruction result;

@@ -27,7 +27,7 @@ NormalMap normals_from_depth(const ImageF& depth, const Mask& mask) {
 
 ImageF render_lambertian(const NormalMap& normals, const Eigen::Vector3d& light, double albedo, const Mask& mask) {
   if (!(albedo >= 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and >= 0");
-  check_normals(normals, int(mask.rows()), int(mask.cols()));
+  check_mask_fits(mask, normals);
   const Eigen::Vector3f s = LightFrame::from_direction(light).direction.cast<float>();
   ImageF image = ImageF::Zero(normals.rows, normals.cols);
   for (Eigen::Index i = 0; i < normals.size(); ++i) {

@@ -18,6 +18,12 @@ void check_mask(const Mask& mask, const ImageF& image) {
   if (!mask.any()) throw InvalidArgument("shadecut: the mask selects no pixel");
 }
 
+void check_mask_fits(const Mask& mask, const NormalMap& normals) {
+  if (mask.rows() != normals.rows || mask.cols() != normals.cols)
+    throw InvalidArgument("shadecut: the mask is " + std::to_string(mask.rows()) + " x " + std::to_string(mask.cols()) +
+                          " but the normal map is " + std::to_string(normals.rows) + " x " + std::to_string(normals.cols));
+}
+
 void check_normals(const NormalMap& normals, int rows, int cols) {
   if (normals.rows != rows || normals.cols != cols || normals.xyz.rows() != normals.size())
     throw InvalidArgument("shadecut: the normal map is " + std::to_string(normals.rows) + " x " +

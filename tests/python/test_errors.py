@@ -102,3 +102,15 @@ def test_an_image_declaring_too_many_pixels_is_refused_before_allocating(tmp_pat
     assert shadecut.load_image(tmp_path / "normal.png").image.shape == (4, 4)
     with pytest.raises(OSError, match="above the limit of 8"):
         shadecut.load_image(tmp_path / "normal.png", max_pixels=8)
+
+
+def test_threads_are_bounded_and_shape_errors_name_the_mask_first():
+    with pytest.raises(ValueError, match=f"threads must be in 0 .. {shadecut.MAX_THREADS}"):
+        shadecut.reconstruct(GOOD, LIGHT, threads=1000)
+    normals = np.dstack([np.zeros((16, 16)), np.zeros((16, 16)), np.ones((16, 16))]).astype(np.float32)
+    with pytest.raises(ValueError, match="the mask is 15 x 16 but the normal map is 16 x 16"):
+        shadecut.angular_error(normals, normals, np.ones((15, 16), bool))
+    with pytest.raises(ValueError, match="the mask is 15 x 16 but the normal map is 16 x 16"):
+        shadecut.render(normals, LIGHT, 1.0, np.ones((15, 16), bool))
+    with pytest.raises(ValueError, match="compared with the albedo"):
+        shadecut.reconstruct(GOOD, LIGHT, albedo=1e30)

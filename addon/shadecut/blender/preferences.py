@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import bpy
 
-from ..api import METHODS, ReconstructOptions
+from ..api import MAX_THREADS, METHODS, ReconstructOptions
 
 ADDON_ID = __package__.rpartition(".")[0]  # "shadecut", or "bl_ext.<repository>.shadecut" as an extension
 
@@ -27,7 +27,7 @@ class ShadeCutPreferences(bpy.types.AddonPreferences):
         description="The method the panel's 'Default' choice stands for",
     )
     threads: bpy.props.IntProperty(
-        name="Threads", default=ReconstructOptions().threads, min=0, max=1024,
+        name="Threads", default=ReconstructOptions().threads, min=0, max=MAX_THREADS,
         description="CPU threads for the reconstruction (0 = all cores)",
     )
 

@@ -55,6 +55,8 @@ MethodDefaults method_defaults(Method method);
 
 /// The fewest tilt labels the energy can be built with.
 constexpr int kMinLabels = 4;
+/// The most OpenMP threads a call may ask for: more than the machine has only costs memory.
+constexpr int kMaxThreads = 256;
 
 /// Every setting of reconstruct(), with its default: the one place defaults are held. The Python
 /// binding, the command-line tool and the Blender add-on read them from here. Per-object weights
