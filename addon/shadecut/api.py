@@ -68,6 +68,14 @@ class LoadedImage:
     color_space: str  # how the stored values were read: "linear" or "srgb"
 
 
+def _real(values) -> np.ndarray:
+    """``values`` as an array; ValueError for complex numbers, whose imaginary part a cast would drop."""
+    array = np.asarray(values)
+    if np.iscomplexobj(array):
+        raise ValueError("shadecut: complex values given; images, normals and depth maps are real")
+    return array
+
+
 def _mask(mask) -> Optional[np.ndarray]:
     return None if mask is None else np.ascontiguousarray(mask, dtype=bool)
 
@@ -118,7 +126,7 @@ def reconstruct(
         ``stats`` (a :class:`ReconstructStats`).
     """
     chosen = (options or ReconstructOptions()).replace(**overrides)
-    return _core.reconstruct(np.asarray(image), None if light is None else _vector3(light), _mask(mask), albedo,
+    return _core.reconstruct(_real(image), None if light is None else _vector3(light), _mask(mask), albedo,
                              chosen, progress)
 
 
@@ -127,30 +135,30 @@ def render(depth_or_normals, light: Sequence[float], albedo: float = 1.0, mask=N
 
     Pixels outside ``mask`` are 0. A height field's normals come from :func:`normals_from_depth`.
     """
-    surface = np.asarray(depth_or_normals)
+    surface = _real(depth_or_normals)
     normals = normals_from_depth(surface, mask) if surface.ndim == 2 else surface
     return _core.render_normals(normals, _vector3(light), float(albedo), _mask(mask))
 
 
 def normals_from_depth(depth, mask=None) -> np.ndarray:
     """Camera-frame unit normals normalize(-dz/dx, -dz/dy, 1) of a height field, (H, W, 3)."""
-    return _core.normals_from_depth(np.asarray(depth), _mask(mask))
+    return _core.normals_from_depth(_real(depth), _mask(mask))
 
 
 def integrate(normals, mask=None, method: str = "poisson", max_slope: float = 10.0) -> np.ndarray:
     """Depth (H, W) from camera-frame normals (H, W, 3); each mask component's minimum is 0."""
-    return _core.integrate(np.asarray(normals), _mask(mask), method, max_slope)
+    return _core.integrate(_real(normals), _mask(mask), method, max_slope)
 
 
 def angular_error_map(n1, n2, mask=None) -> np.ndarray:
     """Per-pixel angle between two normal maps in degrees, NaN outside the mask."""
-    return _core.angular_error_map(np.asarray(n1), np.asarray(n2), _mask(mask))
+    return _core.angular_error_map(_real(n1), _real(n2), _mask(mask))
 
 
 def angular_error(n1, n2, mask=None) -> float:
     """Mean angle between two normal maps, in degrees, over the pixels of the mask (None = all)
     where both maps have a normal (a zero vector has none)."""
-    return _core.mean_angular_error(np.asarray(n1), np.asarray(n2), _mask(mask))
+    return _core.mean_angular_error(_real(n1), _real(n2), _mask(mask))
 
 
 def mask_components(mask) -> tuple[np.ndarray, int]:
@@ -180,7 +188,7 @@ def estimate_light(image, mask=None, method: Optional[str] = None,
     """
     if method is None:
         method = ReconstructOptions().light_method
-    light, albedo = _core.estimate_light(np.asarray(image), _mask(mask), getattr(method, "name", method), albedo)
+    light, albedo = _core.estimate_light(_real(image), _mask(mask), getattr(method, "name", method), albedo)
     return np.asarray(light), float(albedo)
 
 
@@ -199,7 +207,7 @@ def estimate_albedo(image, mask=None, method: Optional[str] = None,
     """
     if method is None:
         method = ReconstructOptions().albedo_method
-    return _core.estimate_albedo(np.asarray(image), _mask(mask), getattr(method, "name", method), window)
+    return _core.estimate_albedo(_real(image), _mask(mask), getattr(method, "name", method), window)
 
 
 def load_image(path: str | os.PathLike, color_space: str = "auto", max_pixels: Optional[int] = None) -> LoadedImage:
@@ -217,17 +225,17 @@ def load_image(path: str | os.PathLike, color_space: str = "auto", max_pixels: O
 
 def save_image(path: str | os.PathLike, image, mask=None) -> None:
     """Writes linear intensity: float for .exr/.tif, 16-bit sRGB PNG otherwise (alpha = mask)."""
-    _core.save_image(os.fspath(path), np.asarray(image), _mask(mask))
+    _core.save_image(os.fspath(path), _real(image), _mask(mask))
 
 
 def save_depth(path: str | os.PathLike, depth, mask=None) -> None:
     """Writes depth: float .exr/.tif (data) or 16-bit PNG scaled to the masked range (a picture)."""
-    _core.save_depth(os.fspath(path), np.asarray(depth), _mask(mask))
+    _core.save_depth(os.fspath(path), _real(depth), _mask(mask))
 
 
 def save_normals(path: str | os.PathLike, normals, mask=None) -> None:
     """Writes normals: float .exr/.tif, or an 8-bit PNG normal map (n + 1) / 2."""
-    _core.save_normals(os.fspath(path), np.asarray(normals), _mask(mask))
+    _core.save_normals(os.fspath(path), _real(normals), _mask(mask))
 
 
 def height_field_mesh(depth, mask=None, step: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -239,9 +247,9 @@ def height_field_mesh(depth, mask=None, step: int = 1) -> tuple[np.ndarray, np.n
         top-left, bottom-left, bottom-right, top-right (counter-clockwise seen from +z); uvs (V, 2)
         float32, each vertex's pixel centre in the image with v up.
     """
-    return _core.height_field_mesh(np.asarray(depth), _mask(mask), int(step))
+    return _core.height_field_mesh(_real(depth), _mask(mask), int(step))
 
 
 def save_mesh(path: str | os.PathLike, depth, mask=None) -> None:
     """Writes the height field as a .ply or .obj triangle mesh, vertices at (column, -row, depth)."""
-    _core.save_mesh(os.fspath(path), np.asarray(depth), _mask(mask))
+    _core.save_mesh(os.fspath(path), _real(depth), _mask(mask))

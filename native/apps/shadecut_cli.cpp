@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 namespace {
 
 // Every default shown comes from ReconstructOptions, the one place defaults are held.
@@ -106,6 +108,17 @@ int parse_integer(const std::string& flag, const std::string& text) {
   fail(flag + " takes a whole number; got '" + text + "'");
 }
 
+// Fails now, not after the reconstruction, when the output folder cannot be made or written; makes
+// nothing, so that a failed run leaves nothing behind.
+void check_output_folder(const std::filesystem::path& folder) {
+  std::filesystem::path existing = std::filesystem::absolute(folder);
+  while (!std::filesystem::exists(existing) && existing.has_parent_path() && existing != existing.parent_path())
+    existing = existing.parent_path();
+  if (std::filesystem::exists(existing) && !std::filesystem::is_directory(existing))
+    fail("--out: '" + existing.string() + "' is a file, not a folder");
+  if (::access(existing.c_str(), W_OK | X_OK) != 0) fail("--out: cannot write into '" + existing.string() + "'");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -167,6 +180,7 @@ int main(int argc, char** argv) {
     }
     if (image_path.empty()) fail("no image given");
 
+    check_output_folder(out_dir);
     const shadecut::LoadedImage input = shadecut::load_image(image_path, shadecut::parse_color_space(color_space), max_pixels);
     if (!quiet) {
       options.progress = [](double fraction, const std::string& stage) {

@@ -13,6 +13,7 @@ namespace shadecut {
 ImageF angular_error_map(const NormalMap& a, const NormalMap& b, const Mask& mask) {
   check_normals(b, a.rows, a.cols);
   check_mask_fits(mask, a);
+  check_mask_fits(mask, b);
   ImageF degrees = ImageF::Constant(mask.rows(), mask.cols(), std::numeric_limits<float>::quiet_NaN());
   for (Eigen::Index i = 0; i < a.size(); ++i) {
     if (!mask.data()[i]) continue;

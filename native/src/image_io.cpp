@@ -73,6 +73,12 @@ bool decode_as_srgb(ColorSpace requested, const OIIO::ImageSpec& spec) {
   return !is_float_type(spec.format) && !file_says_linear(spec);
 }
 
+// A NUL would cut the name short where the operating system reads it: another file than the one named.
+void require_path(const char* function, const std::string& path) {
+  if (path.find('\0') != std::string::npos) throw InvalidArgument(std::string(function) + ": the path contains a NUL character");
+  if (path.empty()) throw InvalidArgument(std::string(function) + ": the path is empty");
+}
+
 void require_image(const char* function, Eigen::Index rows, Eigen::Index cols) {
   if (rows <= 0 || cols <= 0) throw InvalidArgument(std::string(function) + ": the image is empty");
 }
@@ -134,6 +140,7 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
   OIIO::ImageSpec config;
   // Alpha is only a mask here: the intensities must come back as stored, not premultiplied by it.
   config.attribute("oiio:UnassociatedAlpha", 1);
+  require_path("load_image", path);
   auto input = OIIO::ImageInput::open(path, &config);
   if (!input) throw IoError("cannot read image \"" + path + "\": " + OIIO::geterror());
   const OIIO::ImageSpec spec = input->spec();
@@ -167,6 +174,7 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
 }
 
 void save_image(const std::string& path, const ImageF& image, const Mask* alpha) {
+  require_path("save_image", path);
   require_image("save_image", image.rows(), image.cols());
   if (alpha != nullptr) require_mask_shape("save_image", *alpha, image.rows(), image.cols());
   const std::size_t pixel_count = std::size_t(image.size());
@@ -198,8 +206,10 @@ void save_image(const std::string& path, const ImageF& image, const Mask* alpha)
 }
 
 void save_depth(const std::string& path, const ImageF& depth, const Mask& mask) {
+  require_path("save_depth", path);
   require_image("save_depth", depth.rows(), depth.cols());
   require_mask_shape("save_depth", mask, depth.rows(), depth.cols());
+  if (!mask.select(depth, 0.0f).allFinite()) throw InvalidArgument("save_depth: the depth is NaN or infinite inside the mask");
   const std::size_t pixel_count = std::size_t(depth.size());
 
   if (stores_floats(path)) {
@@ -233,6 +243,7 @@ void save_depth(const std::string& path, const ImageF& depth, const Mask& mask) 
 }
 
 void save_normals(const std::string& path, const NormalMap& normals, const Mask& mask) {
+  require_path("save_normals", path);
   require_image("save_normals", normals.rows, normals.cols);
   if (normals.xyz.rows() != normals.size()) {
     throw InvalidArgument("save_normals: the normal map holds " + std::to_string(normals.xyz.rows()) +
@@ -271,6 +282,7 @@ void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
   if (extension != ".ply" && extension != ".obj") {
     throw InvalidArgument("save_mesh: \"" + path + "\" must end in .ply or .obj");
   }
+  require_path("save_mesh", path);
   require_image("save_mesh", depth.rows(), depth.cols());
   require_mask_shape("save_mesh", mask, depth.rows(), depth.cols());
   const HeightFieldMesh mesh = height_field_mesh(depth, mask);

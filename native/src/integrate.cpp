@@ -64,6 +64,10 @@ Gradients surface_gradients(const NormalMap& normals, const Mask& mask, double m
       throw InvalidArgument("integrate_normals: non-finite normal at pixel (" + std::to_string(i / normals.cols) +
                             ", " + std::to_string(i % normals.cols) + ")");
     }
+    if (nx == 0.0 && ny == 0.0 && nz == 0.0) {
+      throw InvalidArgument("integrate_normals: zero normal at pixel (" + std::to_string(i / normals.cols) + ", " +
+                            std::to_string(i % normals.cols) + ") inside the mask");
+    }
     const double depth_axis = std::max(nz, kGrazingNz);
     gradients.p[i] = std::clamp(-nx / depth_axis, -max_slope, max_slope);
     gradients.q[i] = std::clamp(-ny / depth_axis, -max_slope, max_slope);

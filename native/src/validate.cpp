@@ -22,6 +22,10 @@ void check_mask_fits(const Mask& mask, const NormalMap& normals) {
   if (mask.rows() != normals.rows || mask.cols() != normals.cols)
     throw InvalidArgument("shadecut: the mask is " + std::to_string(mask.rows()) + " x " + std::to_string(mask.cols()) +
                           " but the normal map is " + std::to_string(normals.rows) + " x " + std::to_string(normals.cols));
+  for (Eigen::Index i = 0; i < normals.size(); ++i)
+    if (mask.data()[i] && !normals.xyz.row(i).allFinite())
+      throw InvalidArgument("shadecut: the normal map has NaN or infinite values inside the mask, at pixel (" +
+                            std::to_string(i / normals.cols) + ", " + std::to_string(i % normals.cols) + ")");
 }
 
 void check_normals(const NormalMap& normals, int rows, int cols) {

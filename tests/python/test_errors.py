@@ -114,3 +114,46 @@ def test_threads_are_bounded_and_shape_errors_name_the_mask_first():
         shadecut.render(normals, LIGHT, 1.0, np.ones((15, 16), bool))
     with pytest.raises(ValueError, match="compared with the albedo"):
         shadecut.reconstruct(GOOD, LIGHT, albedo=1e30)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: shadecut.reconstruct(GOOD.astype(complex), LIGHT),
+    lambda: shadecut.render(np.zeros((4, 4, 3), complex), LIGHT),
+    lambda: shadecut.estimate_albedo(GOOD.astype(complex)),
+    lambda: shadecut.integrate(np.zeros((4, 4, 3), complex)),
+])
+def test_complex_arrays_are_refused(call):
+    with pytest.raises(ValueError, match="complex"):
+        call()
+
+
+def test_bad_paths_and_unwritable_outputs_fail_before_any_work(tmp_path):
+    with pytest.raises(ValueError, match="NUL"):
+        shadecut.save_image(str(tmp_path / "a\0b.png"), GOOD)
+    assert not list(tmp_path.iterdir())
+    depth = np.full((4, 4), np.nan, np.float32)
+    with pytest.raises(ValueError, match="NaN or infinite inside the mask"):
+        shadecut.save_depth(tmp_path / "depth.png", depth)
+    (tmp_path / "file").write_text("in the way")
+    shadecut.save_image(tmp_path / "in.png", GOOD)
+    cli = Path(__file__).resolve().parents[2] / "build" / "native" / "shadecut"
+    done = subprocess.run([str(cli), str(tmp_path / "in.png"), "--light", "1,0,1", "--out", str(tmp_path / "file" / "out")],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2 and "is a file, not a folder" in done.stderr
+
+
+def test_nan_or_zero_normals_inside_the_mask_are_refused():
+    normals = np.dstack([np.zeros((8, 8)), np.zeros((8, 8)), np.ones((8, 8))]).astype(np.float32)
+    broken = normals.copy()
+    broken[3, 4] = np.nan
+    with pytest.raises(ValueError, match=r"NaN or infinite values inside the mask, at pixel \(3, 4\)"):
+        shadecut.render(broken, LIGHT)
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        shadecut.angular_error(normals, broken)
+    zero = normals.copy()
+    zero[2, 2] = 0.0
+    with pytest.raises(ValueError, match=r"zero normal at pixel \(2, 2\)"):
+        shadecut.integrate(zero)
+    outside = np.ones((8, 8), bool)
+    outside[3, 4] = False  # a NaN outside the mask is never read
+    assert shadecut.render(broken, LIGHT, 1.0, outside)[3, 4] == 0.0

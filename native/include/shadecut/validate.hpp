@@ -13,7 +13,8 @@ void check_image(const ImageF& image, const std::string& what = "image");
 /// Throws InvalidArgument unless `mask` has the shape of `image` and selects at least one pixel.
 void check_mask(const Mask& mask, const ImageF& image);
 
-/// Throws InvalidArgument, naming the mask first, unless `mask` has the shape of `normals`.
+/// Throws InvalidArgument, naming the mask first, unless `mask` has the shape of `normals`, and when a
+/// normal inside the mask is NaN or infinite.
 void check_mask_fits(const Mask& mask, const NormalMap& normals);
 
 /// Throws InvalidArgument unless `normals` is rows x cols.
