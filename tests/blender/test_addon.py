@@ -1,6 +1,7 @@
 """The add-on inside a real Blender: registration, the operator end to end, errors, light frames."""
 
 import math
+import re
 
 import bpy
 import numpy as np
@@ -201,10 +202,56 @@ def test_sun_direction_in_a_camera_frame(addon, camera_rotation):
         np.testing.assert_allclose(light, expected, atol=1e-6)
 
 
+def write_file(path, pixels):
+    """Writes (H, W, C) pixels with OpenImageIO (not the library, which may refuse bad images)."""
+    import OpenImageIO as oiio
+
+    pixels = np.asarray(pixels)
+    height, width, channels = pixels.shape
+    kind = "float" if pixels.dtype.kind == "f" else "uint8"
+    buffer = oiio.ImageBuf(oiio.ImageSpec(width, height, channels, kind))
+    buffer.set_pixels(oiio.ROI(), pixels)
+    assert buffer.write(str(path)), buffer.geterror()
+    return str(path)
+
+
+def _bad_file(case, tmp_path):
+    """The file of a "file ..." case, for the operator's filepath."""
+    grey = np.full((16, 16, 1), 128, np.uint8)
+    if case == "file black":
+        return write_file(tmp_path / "black.png", np.zeros((16, 16, 1), np.uint8))
+    if case == "file transparent":
+        return write_file(tmp_path / "clear.png", np.dstack([grey, np.zeros_like(grey)]))
+    if case == "file 1 x 1":
+        return write_file(tmp_path / "dot.png", grey[:1, :1])
+    if case == "file 200 x 1":
+        return write_file(tmp_path / "line.png", np.full((1, 200, 1), 128, np.uint8))
+    if case == "file NaN":
+        pixels = np.full((16, 16, 1), 0.5, np.float32)
+        pixels[3, 4] = np.nan
+        return write_file(tmp_path / "nan.exr", pixels)
+    if case == "file directory":
+        (tmp_path / "folder.png").mkdir()
+        return str(tmp_path / "folder.png")
+    if case == "file not an image":
+        (tmp_path / "notes.png").write_text("not an image")
+        return str(tmp_path / "notes.png")
+    if case == "file missing":
+        return str(tmp_path / "missing.png")
+    if case == "file of the user's, black":
+        path = write_file(tmp_path / "black.png", np.zeros((16, 16, 1), np.uint8))
+        bpy.data.images.load(path)  # the user's own: a failure must not remove it
+        return path
+    raise KeyError(case)
+
+
 def _error_setup(case, sphere_png, tmp_path):
+    """Sets up a bad input; returns the operator's arguments."""
     truth, path = sphere_png
     settings = bpy.context.scene.shadecut
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    if case.startswith("file"):
+        return {"filepath": _bad_file(case, tmp_path)}
     if case != "no image":
         settings.image = bpy.data.images.load(str(path))
     if case == "no pixels":
@@ -226,6 +273,30 @@ def _error_setup(case, sphere_png, tmp_path):
         settings.light_source, settings.light_object, settings.frame = "OBJECT", add_sun(LIGHT), "CAMERA"
     elif case == "sun below":
         settings.light_source, settings.light_object = "OBJECT", add_sun((1, 0, -1))
+    elif case == "sun scaled to zero":
+        settings.light_source, settings.light_object = "OBJECT", add_sun(LIGHT)
+        settings.light_object.scale = (0.0, 0.0, 0.0)
+    elif case == "camera scaled to zero":
+        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+        camera.scale = (1.0, 0.0, 1.0)
+        bpy.context.collection.objects.link(camera)
+        settings.light_source, settings.light_object = "OBJECT", add_sun(LIGHT)
+        settings.frame, settings.camera = "CAMERA", camera
+    elif case == "max size 1":
+        settings.max_resolution = 1
+    elif case == "width NaN":
+        settings.width = math.nan
+    elif case == "width infinite":
+        settings.width = math.inf
+    elif case == "depth scale NaN":
+        settings.depth_scale = math.nan
+    elif case == "depth scale infinite":
+        settings.depth_scale = -math.inf
+    elif case == "density of the image size":
+        settings.density = truth.mask.shape[1]
+    elif case == "density leaving no face":
+        settings.density = truth.mask.shape[1] // 2
+    return {}
 
 
 @pytest.mark.parametrize("case, message", [
@@ -236,12 +307,83 @@ def _error_setup(case, sphere_png, tmp_path):
     ("not a sun", "point light"),
     ("no camera", "No camera"),
     ("sun below", "at or below the horizon"),
+    ("sun scaled to zero", "Sun 'Sun' (or a parent) is scaled to zero"),
+    ("camera scaled to zero", "Camera 'Camera' (or a parent) is scaled to zero"),
+    ("max size 1", "Max size 1 px is too small for the 96 x 96 image 'sphere.png' (fewer than 2 x 2 pixels would "
+                   "remain): use at least 2"),
+    ("width NaN", "Width must be a finite number > 0 (it is nan)"),
+    ("width infinite", "Width must be a finite number > 0"),
+    ("depth scale NaN", "Depth scale must be a finite number (it is nan)"),
+    ("depth scale infinite", "Depth scale must be a finite number"),
+    ("density of the image size", "leaves no face on the 96 x 96 working image of 'sphere.png': the largest usable "
+                                  "density is"),
+    ("density leaving no face", "the largest usable density is"),
+    ("file black", "Image 'black.png' is black"),
+    ("file transparent", "Image 'clear.png' is transparent everywhere"),
+    ("file 1 x 1", "Image 'dot.png' is 1 x 1 pixels: at least 2 x 2 are needed"),
+    ("file 200 x 1", "Image 'line.png' is 200 x 1 pixels: at least 2 x 2 are needed"),
+    ("file NaN", "Image 'nan.exr' has 1 NaN or infinite pixel"),
+    ("file directory", "folder.png': it is a directory, not an image file"),
+    ("file not an image", "notes.png': it is not an image file Blender can read"),
+    ("file missing", "missing.png': there is no such file"),
+    ("file of the user's, black", "Image 'black.png' is black"),
 ])
 def test_errors_are_reports_and_leave_the_scene_alone(addon, sphere_png, tmp_path, case, message):
-    _error_setup(case, sphere_png, tmp_path)
+    arguments = _error_setup(case, sphere_png, tmp_path)
     before = scene_state()
-    with pytest.raises(RuntimeError, match=message):  # an ERROR report raises in background mode
-        bpy.ops.shadecut.reconstruct()
+    # An ERROR report raises in background mode; CANCELLED is the operator's result behind it.
+    with pytest.raises(RuntimeError, match=re.escape(message)) as raised:
+        bpy.ops.shadecut.reconstruct(**arguments)
+    assert "Traceback" not in str(raised.value)
+    assert str(raised.value).count("Cannot read") <= 1  # said once, not repeated
+    assert scene_state() == before
+
+
+def test_errors_return_cancelled(addon, sphere_png, tmp_path):
+    """The operator's own result for a refused input, seen without bpy.ops (which raises)."""
+    settings = bpy.context.scene.shadecut
+    settings.light_source = "DIRECTION"
+    settings.density = 96
+
+    class Operator:
+        filepath, _interactive = str(sphere_png[1]), False
+
+        def report(self, kind, message):
+            self.last = (kind, message)
+
+    operator = Operator()
+    before = scene_state()
+    assert reconstruct_operator.SHADECUT_OT_reconstruct.execute(operator, bpy.context) == {"CANCELLED"}
+    assert operator.last[0] == {"ERROR"} and "largest usable density" in operator.last[1]
+    assert scene_state() == before
+
+
+def test_a_failed_job_removes_the_image_it_loaded(addon, sphere_png):
+    truth, path = sphere_png
+    bpy.context.scene.shadecut.light_source = "DIRECTION"
+    before = scene_state()
+    job = reconstruct_operator.prepare_job(bpy.context, str(path))
+    assert job.created_image and job.source_image.name in bpy.data.images
+    job.error = ValueError("refused by the core")
+
+    class Reports:
+        def report(self, kind, message):
+            self.last = (kind, message)
+
+    assert reconstruct_operator.finish_job(Reports(), bpy.context, job) == {"CANCELLED"}
+    assert scene_state() == before
+
+
+def test_a_mesh_without_faces_is_refused_before_anything_is_made(addon):
+    from shadecut.blender.mesh import MeshError, depth_mesh
+
+    before = scene_state()
+    mask = np.zeros((8, 8), bool)
+    mask[::2, ::2] = True  # no four masked neighbours anywhere
+    with pytest.raises(MeshError, match="no face"):
+        depth_mesh("holes", np.zeros((8, 8), np.float32), mask)
+    with pytest.raises(MeshError, match="not be finite"):
+        depth_mesh("huge", np.full((8, 8), 1e30, np.float32), np.ones((8, 8), bool), depth_scale=1e30)
     assert scene_state() == before
 
 

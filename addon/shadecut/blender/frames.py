@@ -7,12 +7,33 @@ An image without a camera lies in the world XY plane seen from +Z: the frame is 
 
 from __future__ import annotations
 
+import math
+
 import bpy
-from mathutils import Vector
+from mathutils import Quaternion, Vector
+
+# An axis of an object's world matrix shorter than this is scaled to zero: it has no orientation.
+MIN_AXIS = 1e-9
 
 
 class FrameError(ValueError):
     """A light or camera that cannot give a direction; the message says what to do."""
+
+
+def world_rotation(obj: bpy.types.Object, role: str) -> Quaternion:
+    """The rotation of ``obj``'s world matrix; FrameError when scale zero (or NaN) leaves it undefined.
+
+    ``role`` names the object in the message ("Sun", "Camera").
+    """
+    matrix = obj.matrix_world.to_3x3()
+    lengths = [column.length for column in matrix.col]
+    if not all(math.isfinite(value) for row in matrix for value in row):
+        raise FrameError(f"{role} '{obj.name}' has a transform that is not finite (NaN or infinite): "
+                         "reset its rotation and scale")
+    if min(lengths) < MIN_AXIS or abs(matrix.determinant()) < MIN_AXIS ** 3:
+        raise FrameError(f"{role} '{obj.name}' (or a parent) is scaled to zero, so it has no direction: "
+                         "give it a non-zero scale")
+    return matrix.to_quaternion()
 
 
 def sun_direction_world(light_object: bpy.types.Object) -> Vector:
@@ -29,14 +50,14 @@ def sun_direction_world(light_object: bpy.types.Object) -> Vector:
             f"Light '{light_object.name}' is a {light_object.data.type.lower()} light: the method assumes a "
             "distant light, so use a Sun (or type the direction)"
         )
-    return (light_object.matrix_world.to_quaternion() @ Vector((0.0, 0.0, 1.0))).normalized()
+    return (world_rotation(light_object, "Sun") @ Vector((0.0, 0.0, 1.0))).normalized()
 
 
 def world_to_camera_frame(direction: Vector, camera: bpy.types.Object | None) -> Vector:
     """A world direction in the camera frame of ``camera``, or unchanged when there is none."""
     if camera is None:
         return Vector(direction)
-    return camera.matrix_world.to_quaternion().inverted() @ Vector(direction)
+    return world_rotation(camera, "Camera").inverted() @ Vector(direction)
 
 
 def light_in_camera_frame(light_object: bpy.types.Object, camera: bpy.types.Object | None) -> Vector:

@@ -12,6 +12,10 @@ import numpy as np
 from ..api import height_field_mesh
 
 
+class MeshError(ValueError):
+    """A height field that would make an empty or broken mesh; the message says why."""
+
+
 def grid_geometry(depth: np.ndarray, mask: np.ndarray, *, size: float, depth_scale: float, step: int):
     """The vertices, quads and UVs of a height field in scene units, sampled every ``step`` pixels.
 
@@ -31,9 +35,10 @@ def grid_geometry(depth: np.ndarray, mask: np.ndarray, *, size: float, depth_sca
     height, width = mask.shape
     unit = size / width
     co, quads, uv = height_field_mesh(depth, mask, step)
-    co[:, 0] = (co[:, 0] - (width - 1) / 2) * unit
-    co[:, 1] = (co[:, 1] + (height - 1) / 2) * unit
-    co[:, 2] *= unit * depth_scale
+    with np.errstate(over="ignore", invalid="ignore"):  # depth_mesh refuses what is not finite
+        co[:, 0] = (co[:, 0] - (width - 1) / 2) * unit
+        co[:, 1] = (co[:, 1] + (height - 1) / 2) * unit
+        co[:, 2] *= unit * depth_scale
     return co, quads, uv
 
 
@@ -49,9 +54,15 @@ def depth_mesh(
     """A new mesh datablock of a height field (not linked to any scene).
 
     Geometry as :func:`grid_geometry`; faces only where four sampled neighbours are in the mask;
-    smooth shading; a UV map "UVMap" that maps the source image onto the surface.
+    smooth shading; a UV map "UVMap" that maps the source image onto the surface. Raises MeshError,
+    before creating anything, when there would be no face or a vertex that is not finite.
     """
     co, quads, uv = grid_geometry(depth, mask, size=size, depth_scale=depth_scale, step=step)
+    if len(quads) == 0:
+        raise MeshError(f"sampling every {step} pixels of the {mask.shape[1]} x {mask.shape[0]} result leaves "
+                        "no face: lower the density")
+    if not np.isfinite(co).all():
+        raise MeshError("the vertices would not be finite numbers: lower the width or the depth scale")
 
     mesh = bpy.data.meshes.new(name)
     mesh.vertices.add(len(co))

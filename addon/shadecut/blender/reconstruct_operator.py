@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+import os
 import threading
 import time
 from dataclasses import dataclass, field
@@ -14,12 +16,15 @@ import numpy as np
 from .. import api, imaging
 from .frames import FrameError, light_in_camera_frame
 from .preferences import addon_preferences
+from .mesh import MeshError
 from .result import limited_depth_scale, result_object
 
 # Below this the image is black for the method: it needs shading to read slants from.
 DARK_LIMIT = 1e-4
 # Colour spaces whose stored 8-bit values are linear already.
 LINEAR_SPACES = {"Linear", "Linear ACES", "Linear ACEScg", "Non-Color", "Raw", "XYZ"}
+# Blender stores float properties as float32 and clamps an infinity typed or set to this.
+FLOAT_MAX = 3.4028234e38
 
 
 class InputError(ValueError):
@@ -37,6 +42,8 @@ class Job:
     albedo: Optional[float]
     options: dict
     source_image: Optional[bpy.types.Image]
+    output: dict = field(default_factory=dict)  # how to build the result, read with the rest
+    created_image: bool = False  # the source image was loaded by this job: removed if it fails
     fraction: float = 0.0
     stage: str = "starting"
     cancel: bool = False
@@ -65,6 +72,8 @@ def image_pixels(image: bpy.types.Image) -> tuple[np.ndarray, np.ndarray]:
     width, height = image.size
     if width * height == 0:
         raise InputError(f"Image '{image.name}' has no pixels (is its file missing?): reload it or choose another")
+    if width < 2 or height < 2:
+        raise InputError(f"Image '{image.name}' is {width} x {height} pixels: at least 2 x 2 are needed")
     space = image.colorspace_settings.name
     srgb = not image.is_float and space not in LINEAR_SPACES
     if srgb and space != "sRGB":
@@ -76,15 +85,46 @@ def image_pixels(image: bpy.types.Image) -> tuple[np.ndarray, np.ndarray]:
         rgba = np.dstack([np.repeat(rgba[..., :1], 3, axis=2) if image.channels < 3 else rgba[..., :3],
                           np.ones((height, width, 1), np.float32)])
     intensity, mask, _ = imaging.intensity_and_mask(rgba, srgb_encoded=srgb)
+    finite = np.isfinite(intensity)
+    if not finite[mask].all():
+        bad = np.count_nonzero(~finite & mask)
+        raise InputError(f"Image '{image.name}' has {bad} NaN or infinite pixel{'s' if bad > 1 else ''}: "
+                         "shape from shading needs finite intensities")
+    intensity = np.where(finite, intensity, 0.0).astype(np.float32)  # outside the mask: unused
     return intensity, mask
 
 
-def _source_image(context, settings, filepath: str) -> bpy.types.Image:
+def _load_file(filepath: str) -> tuple[bpy.types.Image, bool]:
+    """The image of ``filepath`` and whether this call created its datablock (False when
+    ``check_existing`` handed back one the user already had)."""
+    path = bpy.path.abspath(filepath)
+    if not os.path.exists(path):
+        raise InputError(f"Cannot read '{filepath}': there is no such file")
+    if os.path.isdir(path):
+        raise InputError(f"Cannot read '{filepath}': it is a directory, not an image file")
+    existing = {image.as_pointer() for image in bpy.data.images}
+    try:
+        image = bpy.data.images.load(filepath, check_existing=True)
+    except RuntimeError as error:
+        reason = str(error).strip()
+        reason = reason.removeprefix("Error:").strip().removeprefix(f"Cannot read '{filepath}':").strip()
+        raise InputError(f"Cannot read '{filepath}': {reason or 'Blender cannot load it'}") from error
+    created = image.as_pointer() not in existing
+    if tuple(image.size) == (0, 0):
+        if created:
+            bpy.data.images.remove(image)
+        raise InputError(f"Cannot read '{filepath}': it is not an image file Blender can read")
+    return image, created
+
+
+def _source_image(context, settings, filepath: str) -> tuple[bpy.types.Image, bool]:
+    """The image to reconstruct and whether this call loaded it (see :func:`_load_file`)."""
     if filepath:
-        try:
-            return bpy.data.images.load(filepath, check_existing=True)
-        except RuntimeError as error:
-            raise InputError(f"Cannot read '{filepath}': {error}") from error
+        return _load_file(filepath)
+    return _open_image(context, settings), False
+
+
+def _open_image(context, settings) -> bpy.types.Image:
     if settings.image is not None:
         return settings.image
     space = context.space_data
@@ -119,16 +159,77 @@ def _light(context, settings) -> Optional[np.ndarray]:
         raise InputError(f"The light ({light[0]:.2f}, {light[1]:.2f}, {light[2]:.2f}) cannot be used: {error}") from error
 
 
+def _finite(value: float) -> bool:
+    return math.isfinite(value) and abs(value) < FLOAT_MAX
+
+
+def _check_output(settings) -> None:
+    """The result's size and scale: cheap checks before any work."""
+    if not (_finite(settings.width) and settings.width > 0):
+        raise InputError(f"Width must be a finite number > 0 (it is {settings.width:g})")
+    if not _finite(settings.depth_scale):
+        raise InputError(f"Depth scale must be a finite number (it is {settings.depth_scale:g})")
+    if not (_finite(settings.max_height) and settings.max_height >= 0):
+        raise InputError(f"Max height must be a finite number >= 0 (it is {settings.max_height:g})")
+
+
+def _has_face(mask: np.ndarray, step: int) -> bool:
+    """Whether sampling ``mask`` every ``step`` pixels leaves four masked neighbours (one quad)."""
+    sampled = mask[::step, ::step]
+    if min(sampled.shape) < 2:
+        return False
+    return bool((sampled[:-1, :-1] & sampled[1:, :-1] & sampled[:-1, 1:] & sampled[1:, 1:]).any())
+
+
+def _check_density(name: str, mask: np.ndarray, density: int) -> None:
+    """A density that leaves fewer than 2 x 2 samples, or no face, would give an empty mesh."""
+    if _has_face(mask, density):
+        return
+    height, width = mask.shape
+    usable = next((step for step in range(min(min(height, width) - 1, density - 1), 0, -1)
+                   if _has_face(mask, step)), 0)
+    if usable == 0:
+        raise InputError(f"Image '{name}' has no 2 x 2 block of masked pixels at its {width} x {height} working "
+                         "size: there is no surface to build")
+    raise InputError(f"Density {density} leaves no face on the {width} x {height} working image of '{name}': "
+                     f"the largest usable density is {usable}")
+
+
+def _working_size(name: str, image, mask, max_size: int):
+    try:
+        return imaging.downsample(image, mask, max_size)[:2]
+    except ValueError as error:
+        height, width = mask.shape
+        smallest = math.ceil(max(height, width) / (min(height, width) // 2))
+        raise InputError(f"Max size {max_size} px is too small for the {width} x {height} image '{name}' "
+                         f"(fewer than 2 x 2 pixels would remain): use at least {smallest}, or 0 for full size"
+                         ) from error
+
+
 def prepare_job(context, filepath: str = "") -> Job:
-    """Reads the settings and the image into a :class:`Job`; raises InputError for bad input."""
+    """Reads the settings and the image into a :class:`Job`; raises InputError for bad input.
+
+    An image loaded from ``filepath`` by this call is removed again when the input is refused.
+    """
     settings = context.scene.shadecut
-    source = _source_image(context, settings, filepath)
+    _check_output(settings)
+    source, created = _source_image(context, settings, filepath)
+    try:
+        return _prepare(context, settings, source, created)
+    except BaseException:
+        if created:
+            bpy.data.images.remove(source)
+        raise
+
+
+def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
     image, mask = image_pixels(source)
-    image, mask, _ = imaging.downsample(image, mask, settings.max_resolution)
+    image, mask = _working_size(source.name, image, mask, settings.max_resolution)
     if not mask.any():
         raise InputError(f"Image '{source.name}' is transparent everywhere: its alpha leaves no pixel to reconstruct")
     if not image[mask].max() > DARK_LIMIT:
         raise InputError(f"Image '{source.name}' is black: shape from shading needs a lit, shaded surface")
+    _check_density(source.name, mask, settings.density)
     light = _light(context, settings)
 
     preferences = addon_preferences(context)
@@ -145,11 +246,33 @@ def prepare_job(context, filepath: str = "") -> Job:
         albedo=None if settings.auto_albedo or light is None else settings.albedo,
         options=options,
         source_image=source,
+        output=_output_settings(settings),
+        created_image=created,
     )
 
 
+def _output_settings(settings) -> dict:
+    return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=settings.max_height,
+                density=settings.density, displace=settings.output == "DISPLACE", normal_map=settings.normal_map)
+
+
+def discard_job(job: Job) -> None:
+    """Removes what a failed or cancelled job brought in: the image it loaded itself, if any."""
+    if job.created_image and job.source_image is not None:
+        try:
+            bpy.data.images.remove(job.source_image)
+        except ReferenceError:  # already gone (the user removed it meanwhile)
+            pass
+        job.source_image, job.created_image = None, False
+
+
 def finish_job(operator, context, job: Job) -> set[str]:
-    """Reports the outcome of a finished job and, on success, builds the result object."""
+    """Reports the outcome of a finished job and, on success, builds the result object.
+
+    On failure nothing is added, and an image the job loaded itself is removed again.
+    """
+    if job.error is not None:
+        discard_job(job)
     if isinstance(job.error, api.Cancelled):
         operator.report({"WARNING"}, "Reconstruction cancelled: nothing was added")
         return {"CANCELLED"}
@@ -159,15 +282,20 @@ def finish_job(operator, context, job: Job) -> set[str]:
     if job.error is not None:
         operator.report({"ERROR"}, f"Reconstruction failed ({type(job.error).__name__}: {job.error})")
         return {"CANCELLED"}
-    settings = context.scene.shadecut
+    out = job.output or _output_settings(context.scene.shadecut)
     result = job.result
-    obj = result_object(
-        context, job.name, result.depth, result.normals, result.mask,
-        source_image=job.source_image, width=settings.width,
-        depth_scale=limited_depth_scale(result.depth, result.mask, settings.width, settings.depth_scale,
-                                        settings.max_height),
-        density=settings.density, displace=settings.output == "DISPLACE", normal_map=settings.normal_map,
-    )
+    try:
+        obj = result_object(
+            context, job.name, result.depth, result.normals, result.mask,
+            source_image=job.source_image, width=out["width"],
+            depth_scale=limited_depth_scale(result.depth, result.mask, out["width"], out["depth_scale"],
+                                            out["max_height"]),
+            density=out["density"], displace=out["displace"], normal_map=out["normal_map"],
+        )
+    except MeshError as error:
+        discard_job(job)
+        operator.report({"ERROR"}, f"Cannot build the result: {error}")
+        return {"CANCELLED"}
     light = ", ".join(f"{v:.3f}" for v in result.light)
     light_kind = "estimated light" if job.light is None else "light"
     operator.report({"INFO"}, f"'{obj.name}': {job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
@@ -206,6 +334,9 @@ class SHADECUT_OT_reconstruct(bpy.types.Operator):
             job = prepare_job(context, self.filepath)
         except InputError as error:
             self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        except ValueError as error:  # any other refusal of the input by the library
+            self.report({"ERROR"}, f"Cannot reconstruct: {error}")
             return {"CANCELLED"}
         if not self._interactive or bpy.app.background:
             job.run()

@@ -8,7 +8,7 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
-from .mesh import depth_mesh
+from .mesh import MeshError, depth_mesh
 
 
 def _float_image(name: str, rgba: np.ndarray) -> bpy.types.Image:
@@ -82,8 +82,11 @@ def result_object(
     """Links a new object showing depth (H, W) pixel units to the active collection and selects it.
 
     ``displace``: a flat grid carrying a Displace modifier and a height image instead of real heights.
+    Raises MeshError (see :func:`depth_mesh`) before creating anything.
     """
     unit = width / depth.shape[1]
+    if displace and not np.isfinite(np.float32(unit * depth_scale)):
+        raise MeshError("the displacement strength would not be a finite number: lower the width or the depth scale")
     mesh = depth_mesh(name, np.zeros_like(depth) if displace else depth, mask,
                       size=width, depth_scale=depth_scale, step=density)
     obj = bpy.data.objects.new(name, mesh)
