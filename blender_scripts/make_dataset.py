@@ -12,13 +12,17 @@ folder ``<shape>_<light index>`` in the format of ``shadecut.dataset``; ``manife
 shape's name, so the same seed gives the same dataset whatever the shard or the other shapes.
 
 Re-running skips the finished samples (an interrupted sample leaves no folder: samples are written
-atomically). ``--shard I/N`` (I from 0 to N-1) renders only the samples whose index modulo N is I,
+atomically); a sample counts as finished only when every file it lists reads back whole with the
+planned resolution and channels, so one damaged later (truncated by a full disk, a copy cut short)
+is rendered again. ``--shard I/N`` (I from 0 to N-1) renders only the samples whose index modulo N is I,
 so that processes, machines or a batch scheduler's array jobs share a dataset folder; each shard
 refreshes the manifest with what is on disk, and a last run without --shard (everything skipped)
 writes the complete one.
 
 Exit code 0 on success, 1 when a render failed, 2 for bad input (unknown shape, unreadable mesh,
-light at or below the horizon, unwritable output folder...), with a message and no traceback.
+light at or below the horizon, a negative seed, a NaN or negative noise, unwritable output folder...),
+with a message and no traceback. Ctrl+C (SIGINT) stops the whole run after the render under way: the
+finished samples and a manifest listing them are kept, and the exit code is 130.
 ``main(argv)`` runs the generator in-process (argv = the arguments after "--") and returns the code.
 
 This file is the command: arguments, plan, rendering loop, manifest. The shapes themselves, built-in
@@ -33,6 +37,7 @@ import ctypes
 import math
 import os
 import re
+import signal
 import sys
 import time
 from pathlib import Path
@@ -52,6 +57,8 @@ from shapes import (  # noqa: E402
     BUILDERS, CATALOGUE, MESH_SUFFIXES, MeshFileError, load_mesh_file, remove_objects, shape_rng,
 )
 
+MAX_LIGHTS = 100_000  # per shape
+MAX_SAMPLES = 1 << 24  # Cycles samples, as Blender's own limit
 MANIFEST_INTERVAL = 10.0  # seconds between manifest refreshes while rendering (and once at the end)
 # Planned parameters that a finished sample must share with the plan to be skipped on a re-run.
 PLAN_KEYS = ("shape", "light", "albedo", "size", "seed", "noise", "bits", "shadows", "indirect", "samples")
@@ -116,15 +123,17 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
         raise UsageError(f"--size must be 8 to 16384 pixels; got {args.size}")
     if not 0 < args.albedo <= 1:
         raise UsageError(f"--albedo must be in (0, 1]; got {args.albedo}")
-    if args.noise < 0:
-        raise UsageError(f"--noise must be >= 0; got {args.noise}")
-    if args.samples is not None and args.samples < 1:
-        raise UsageError(f"--samples must be >= 1; got {args.samples}")
+    if not (math.isfinite(args.noise) and args.noise >= 0):
+        raise UsageError(f"--noise must be a finite number >= 0; got {args.noise}")
+    if args.seed < 0:
+        raise UsageError(f"--seed must be >= 0; got {args.seed}")
+    if args.samples is not None and not 1 <= args.samples <= MAX_SAMPLES:
+        raise UsageError(f"--samples must be 1 to {MAX_SAMPLES}; got {args.samples}")
+    if not 1 <= args.lights <= MAX_LIGHTS:
+        raise UsageError(f"--lights must be 1 to {MAX_LIGHTS}; got {args.lights}")
     args.fixed_lights = [parse_light(text) for text in args.light]
     if not args.fixed_lights:
-        if args.lights < 1:
-            raise UsageError(f"--lights must be >= 1; got {args.lights}")
-        if not 0 <= args.slant_min <= args.slant_max < 90:
+        if not 0 <= args.slant_min <= args.slant_max < 90:  # False for NaN too
             raise UsageError(f"the slants must satisfy 0 <= --slant-min <= --slant-max < 90 (a light at 90 degrees "
                              f"or more is at or below the horizon); got {args.slant_min} and {args.slant_max}")
     return args
@@ -209,16 +218,92 @@ def check_output(folder: Path) -> None:
 
 
 def finished(folder: Path, entry: dict) -> bool:
-    """True when the sample exists; UsageError when it exists with other parameters than planned."""
-    if not dataset.is_sample(folder / entry["folder"]):
+    """True when the sample exists, complete and readable (dataset.check_sample); UsageError when it
+    exists with other parameters than planned. A damaged sample is reported and is not finished."""
+    sample = folder / entry["folder"]
+    if not dataset.is_sample(sample):
         return False
-    meta = dataset.load_sample_meta(folder / entry["folder"])
-    made = meta.get("dataset_entry", {})
-    different = [key for key in PLAN_KEYS if made.get(key) != entry[key]]
-    if different:
-        raise UsageError(f"{folder / entry['folder']} was made with other settings ({', '.join(different)}); "
-                         "use another --out folder, or delete it")
+    try:
+        meta = dataset.load_sample_meta(sample)
+    except (OSError, ValueError):
+        meta = None  # damaged: check_sample says how
+    if isinstance(meta, dict):
+        made = meta.get("dataset_entry")
+        made = made if isinstance(made, dict) else {}
+        different = [key for key in PLAN_KEYS if made.get(key) != entry[key]]
+        if different:
+            raise UsageError(f"{sample} was made with other settings ({', '.join(different)}); "
+                             "use another --out folder, or delete it")
+    problem = dataset.check_sample(sample)
+    if problem is not None:
+        print(f"make_dataset: {entry['id']} is incomplete or damaged, so not done: {problem}", file=sys.stderr,
+              flush=True)
+        return False
     return True
+
+
+class _Interrupt:
+    """State of the SIGINT handler that stop_on_interrupt installs."""
+
+    requested = False  # Ctrl+C was pressed
+    deferred = False  # inside a sample (building, rendering, writing): stop when it is done
+
+
+def _on_sigint(signum, frame):
+    _Interrupt.requested = True
+    if not _Interrupt.deferred:
+        raise KeyboardInterrupt
+    print("make_dataset: Ctrl+C: stopping after the sample under way", file=sys.stderr, flush=True)
+
+
+@contextlib.contextmanager
+def defer_interrupt():
+    """Ctrl+C inside is remembered, and raises KeyboardInterrupt on leaving (unless an error does).
+
+    A KeyboardInterrupt raised inside Blender's render would land in Python code that Blender calls
+    (Cycles' engine.render), where Blender prints and swallows it: the render returns half done and
+    the run goes on. So a sample is finished first, then the run stops.
+    """
+    outer = _Interrupt.deferred
+    _Interrupt.deferred = True
+    try:
+        yield
+    finally:
+        _Interrupt.deferred = outer
+    if _Interrupt.requested and not outer:
+        raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def stop_on_interrupt():
+    """Ctrl+C (SIGINT) stops the whole run, instead of Blender's own handling of it.
+
+    Blender in background mode handles SIGINT itself: it cancels the render under way (Python sees a
+    render that returned early) and carries on, so the loop would go on with the next sample. This
+    handler replaces it while the generator runs: outside a sample it raises KeyboardInterrupt at once;
+    inside one (defer_interrupt) the sample is finished first. KeyboardInterrupt unwinds the loop (a
+    half-written sample is removed by dataset.write_sample; the manifest is refreshed) and main()
+    reports it. Blender's handler is restored afterwards.
+    """
+    _Interrupt.requested = _Interrupt.deferred = False
+    try:
+        libc = ctypes.CDLL(None) if os.name == "posix" else None
+        saved = ctypes.create_string_buffer(512)  # a struct sigaction, opaque: smaller than this everywhere
+        if libc is not None and libc.sigaction(signal.SIGINT, None, saved) != 0:
+            libc = None
+        previous = signal.signal(signal.SIGINT, _on_sigint)
+    except (ValueError, OSError, AttributeError):  # not the main thread, or no sigaction
+        yield
+        return
+    try:
+        yield
+    finally:
+        if previous is not None:  # a handler set from Python
+            signal.signal(signal.SIGINT, previous)
+        else:  # one set in C (Blender's): back to it, as it was
+            signal.signal(signal.SIGINT, signal.SIG_DFL)
+            if libc is not None:
+                libc.sigaction(signal.SIGINT, saved, None)
 
 
 @contextlib.contextmanager
@@ -288,26 +373,27 @@ def generate(args: argparse.Namespace) -> int:
     try:
         for position, entry in enumerate(todo, 1):
             shape = entry["shape"]
-            if shape not in shape_objects:
-                # Objects of the previous shape go first: only one shape's meshes are alive at a time.
-                for objects in shape_objects.values():
-                    remove_objects(objects)
-                shape_objects = {shape: (load_mesh_file(Path(entry["mesh_file"])) if "mesh_file" in entry
-                                         else BUILDERS[shape](args.seed))}
-            start = time.monotonic()
-            try:
-                render_sample(entry, shape_objects[shape], args, folder)
-            except (RuntimeError, OSError, ValueError) as error:
-                failures += 1
-                print(f"make_dataset: {entry['id']} failed: {error}", file=sys.stderr, flush=True)
-                continue
-            rendered_seconds.append(time.monotonic() - start)
-            done.add(entry["id"])
-            left = len(todo) - position
-            eta = np.mean(rendered_seconds) * left
-            print(f"[{position}/{len(todo)}] {entry['id']} slant {entry['slant_deg']:.1f} tilt "
-                  f"{entry['tilt_deg']:.1f}: {rendered_seconds[-1]:.2f} s; {left} left, about {describe(eta)} to go",
-                  flush=True)
+            with defer_interrupt():  # Ctrl+C: this sample is finished, then the run stops
+                if shape not in shape_objects:
+                    # Objects of the previous shape go first: only one shape's meshes are alive at a time.
+                    for objects in shape_objects.values():
+                        remove_objects(objects)
+                    shape_objects = {shape: (load_mesh_file(Path(entry["mesh_file"])) if "mesh_file" in entry
+                                             else BUILDERS[shape](args.seed))}
+                start = time.monotonic()
+                try:
+                    render_sample(entry, shape_objects[shape], args, folder)
+                except (RuntimeError, OSError, ValueError) as error:
+                    failures += 1
+                    print(f"make_dataset: {entry['id']} failed: {error}", file=sys.stderr, flush=True)
+                    continue
+                rendered_seconds.append(time.monotonic() - start)
+                done.add(entry["id"])
+                left = len(todo) - position
+                eta = np.mean(rendered_seconds) * left
+                print(f"[{position}/{len(todo)}] {entry['id']} slant {entry['slant_deg']:.1f} tilt "
+                      f"{entry['tilt_deg']:.1f}: {rendered_seconds[-1]:.2f} s; {left} left, about {describe(eta)} "
+                      "to go", flush=True)
             if time.monotonic() - last_manifest > MANIFEST_INTERVAL:
                 write_manifest(folder, entries, done, args)
                 last_manifest = time.monotonic()
@@ -315,7 +401,9 @@ def generate(args: argparse.Namespace) -> int:
         for objects in shape_objects.values():
             remove_objects(objects)
         # Other shards may have finished samples meanwhile: list what is on disk now.
-        done |= {entry["id"] for entry in entries if dataset.is_sample(folder / entry["folder"])}
+        done |= {entry["id"] for entry in entries if entry["id"] not in done
+                 and dataset.is_sample(folder / entry["folder"])
+                 and dataset.check_sample(folder / entry["folder"]) is None}
         write_manifest(folder, entries, done, args)
     print(f"make_dataset: {len(done)} of {len(entries)} samples done in {folder}"
           + (f"; {failures} failed" if failures else ""), flush=True)
@@ -326,14 +414,16 @@ def main(argv: list[str]) -> int:
     """Runs the generator with the arguments that follow "--" on Blender's command line."""
     try:
         args = parse_args(argv)
-        return generate(args)
+        with stop_on_interrupt():
+            return generate(args)
     except (UsageError, MeshFileError) as error:
         print(f"make_dataset: error: {error}", file=sys.stderr, flush=True)
         return 2
     except SystemExit as exit_:  # --help
         return int(exit_.code or 0)
     except KeyboardInterrupt:
-        print("make_dataset: interrupted; finished samples are kept, re-run to continue", file=sys.stderr)
+        print("make_dataset: interrupted (Ctrl+C): the run is stopped; the finished samples and the manifest are "
+              "kept, re-run the same command to continue", file=sys.stderr, flush=True)
         return 130
 
 

@@ -10,3 +10,5 @@ echo "== Python tests (pytest, system interpreter)"
 PYTHONPATH=addon /usr/bin/python3 -m pytest tests/python -q -p no:cacheprovider
 echo "== Blender tests (pytest inside headless Blender)"
 blender -b --factory-startup --python-exit-code 1 -P tests/blender/run_pytest.py -- tests/blender -q
+echo "== C++ tests and the CLI under AddressSanitizer and UBSan"
+bash scripts/sanitize.sh

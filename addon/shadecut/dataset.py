@@ -209,6 +209,49 @@ def is_sample(folder) -> bool:
     return (Path(folder) / _META).is_file()
 
 
+# Channels each image file of a sample must hold (check_sample).
+_CHANNELS = {"image.exr": ["Y"], "image.png": ["Y"], "normals.exr": ["R", "G", "B"], "depth.exr": ["Z"],
+             "mask.png": [], "shadow_mask.png": [], "albedo.exr": ["Y"]}
+
+
+def check_sample(folder) -> Optional[str]:
+    """None when ``folder`` is a complete, readable sample; otherwise what is wrong with it.
+
+    Unlike :func:`is_sample`, which only looks for meta.json, this parses meta.json and reads every
+    file it lists in full, checking its resolution and channels: a file truncated or damaged after
+    it was written (a full disk, a copy cut short) is found. Reads every pixel, so it costs about as
+    much as :func:`load_sample`.
+    """
+    folder = Path(folder)
+    if not is_sample(folder):
+        return f"{folder} is not a sample (no {_META})"
+    try:
+        meta = load_sample_meta(folder)
+    except (OSError, ValueError) as error:
+        return f"{folder / _META} is unreadable: {error}"
+    files, resolution = meta.get("files") if isinstance(meta, dict) else None, None
+    if isinstance(meta, dict):
+        resolution = meta.get("resolution")
+    if not isinstance(files, list) or _META not in files or not isinstance(resolution, list) or len(resolution) != 2:
+        return f"{folder / _META} is malformed (no list of files or no resolution)"
+    for name in files:
+        if name == _META:
+            continue
+        path = folder / str(name)
+        if not path.is_file():
+            return f"{path} is missing"
+        try:
+            pixels, channels = read_image_channels(path)
+        except OSError as error:
+            return f"{path} is unreadable ({error})"
+        if [pixels.shape[1], pixels.shape[0]] != resolution:
+            return f"{path} is {pixels.shape[1]} x {pixels.shape[0]} pixels, not {resolution[0]} x {resolution[1]}"
+        missing = [c for c in _CHANNELS.get(str(name), []) if c not in channels]
+        if missing:
+            return f"{path} has no channel {missing[0]} (it has {channels})"
+    return None
+
+
 def load_sample_meta(folder) -> dict:
     """The meta.json of a sample folder, without reading its images."""
     meta_path = Path(folder) / _META
@@ -295,10 +338,14 @@ def load_manifest(dataset_dir) -> list[dict]:
     path = Path(dataset_dir) / MANIFEST_JSON
     if not path.is_file():
         raise OSError(f"shadecut: {dataset_dir} holds no {MANIFEST_JSON}")
-    document = json.loads(path.read_text())
-    if document.get("format") != FORMAT:
-        raise OSError(f"shadecut: {path} is not a ShadeCut dataset manifest")
-    return document["samples"]
+    document = json.loads(path.read_text())  # json.JSONDecodeError (a ValueError) when not JSON
+    if not isinstance(document, dict) or document.get("format") != FORMAT:
+        raise ValueError(f"shadecut: {path} is malformed: not a ShadeCut dataset manifest (a JSON object with "
+                         f'"format": "{FORMAT}")')
+    samples = document.get("samples")
+    if not isinstance(samples, list) or not all(isinstance(entry, dict) for entry in samples):
+        raise ValueError(f'shadecut: {path} is malformed: "samples" is not a list of objects')
+    return samples
 
 
 def load_dataset_info(dataset_dir) -> dict:
@@ -306,7 +353,11 @@ def load_dataset_info(dataset_dir) -> dict:
     path = Path(dataset_dir) / MANIFEST_JSON
     if not path.is_file():
         raise OSError(f"shadecut: {dataset_dir} holds no {MANIFEST_JSON}")
-    return json.loads(path.read_text()).get("dataset", {})
+    document = json.loads(path.read_text())
+    info = document.get("dataset", {}) if isinstance(document, dict) else None
+    if not isinstance(info, dict):
+        raise ValueError(f'shadecut: {path} is malformed: "dataset" is not a JSON object')
+    return info
 
 
 from .diligent import import_diligent  # noqa: E402, F401  (re-exported; diligent.py uses the writer above)

@@ -105,13 +105,20 @@ def test_an_unknown_method_is_refused(repo, two_shapes, tmp_path):
     assert not (tmp_path / "out" / "results.json").exists()
 
 
-def test_a_missing_or_malformed_dataset_is_refused(repo, tmp_path):
-    assert_clean_failure(run_eval(repo, "--dataset", tmp_path / "nowhere", "--out", tmp_path / "out"),
-                         "does not exist")
-    (tmp_path / "bad").mkdir()
-    (tmp_path / "bad" / dataset.MANIFEST_JSON).write_text("[1, 2")
-    assert_clean_failure(run_eval(repo, "--dataset", tmp_path / "bad", "--out", tmp_path / "out"),
-                         "has no readable manifest")
+@pytest.mark.parametrize("make, message", [
+    (lambda path: None, "does not exist"),
+    (lambda path: path.write_text("{}"), "is not a folder"),
+    (lambda path: path.mkdir(), "has no readable manifest"),
+    (lambda path: (path.mkdir(), (path / dataset.MANIFEST_JSON).write_text("[1, 2")), "malformed manifest"),
+    (lambda path: (path.mkdir(), (path / dataset.MANIFEST_JSON).write_text("[1, 2]")), "malformed manifest"),
+    (lambda path: (path.mkdir(), (path / dataset.MANIFEST_JSON).write_text(
+        json.dumps({"format": dataset.FORMAT, "samples": {"id": "a"}}))), "malformed manifest"),
+])
+def test_a_missing_or_malformed_dataset_is_refused(repo, tmp_path, make, message):
+    make(tmp_path / "data")
+    completed = run_eval(repo, "--dataset", tmp_path / "data", "--out", tmp_path / "out")
+    assert_clean_failure(completed, message)
+    assert "has no attribute" not in completed.stderr
 
 
 def test_estimated_lights_are_measured(repo, two_shapes, tmp_path):

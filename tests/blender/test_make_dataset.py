@@ -3,10 +3,14 @@
 import importlib.util
 import math
 import os
+import signal
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
+import bpy
 from shadecut import dataset
 
 
@@ -142,6 +146,22 @@ def test_mesh_files(make_dataset, tmp_path):
     (["--shard", "3/3"], "--shard"),
     (["--size", "4"], "--size"),
     (["--bits", "12"], "invalid choice"),
+    (["--seed", "-1"], "--seed must be >= 0"),
+    (["--noise", "nan"], "--noise must be a finite number >= 0"),
+    (["--noise", "inf"], "--noise must be a finite number >= 0"),
+    (["--noise", "-0.1"], "--noise must be a finite number >= 0"),
+    (["--albedo", "nan"], "--albedo must be in (0, 1]"),
+    (["--albedo", "0"], "--albedo must be in (0, 1]"),
+    (["--size", "0"], "--size"),
+    (["--size", "nan"], "invalid int value"),
+    (["--lights", "0"], "--lights must be 1 to"),
+    (["--lights", "-3", "--light", "1,0,1"], "--lights must be 1 to"),
+    (["--lights", "1000000000"], "--lights must be 1 to"),
+    (["--samples", "0"], "--samples must be 1 to"),
+    (["--slant-min", "nan"], "the slants must satisfy"),
+    (["--slant-min=-inf"], "the slants must satisfy"),
+    (["--light", "nan,0,1"], "NaN or infinite"),
+    (["--shard=-1/2"], "--shard"),
 ])
 def test_bad_input_exits_with_a_message(make_dataset, tmp_path, capsys, arguments, message):
     (tmp_path / "garbage.ply").write_text("this is not a ply file\n")
@@ -170,3 +190,71 @@ def test_lights_are_uniform_over_the_slant_band(make_dataset):
     # Uniform over the solid angle: cos(slant) uniform between cos 60 and cos 10.
     assert np.mean(lights[:, 2]) == pytest.approx((math.cos(math.radians(10)) + 0.5) / 2, abs=0.01)
     np.testing.assert_allclose(np.linalg.norm(lights, axis=1), 1)
+
+
+def test_a_sample_damaged_after_it_was_written_is_rendered_again(make_dataset, tmp_path, capsys):
+    assert run(make_dataset, tmp_path) == 0
+    image = tmp_path / "sphere_001" / "image.exr"
+    image.write_bytes(image.read_bytes()[: image.stat().st_size // 2])  # e.g. a copy cut short, a full disk
+    (tmp_path / "suzanne_000" / "meta.json").write_text('{"format": ')  # meta.json itself cut short
+    capsys.readouterr()
+    assert run(make_dataset, tmp_path) == 0
+    captured = capsys.readouterr()
+    assert "2 already done, 2 to render" in captured.out
+    assert "sphere_001 is incomplete or damaged" in captured.err and "image.exr" in captured.err
+    assert "suzanne_000 is incomplete or damaged" in captured.err
+    assert "[1/2] sphere_001" in captured.out and "[2/2] suzanne_000" in captured.out
+    for entry in dataset.load_manifest(tmp_path):
+        assert dataset.check_sample(tmp_path / entry["folder"]) is None, entry["id"]
+        assert dataset.load_sample(tmp_path / entry["folder"]).image.shape == (64, 64)
+    # A damaged sample of another shard is not listed in the manifest that shard writes.
+    image.write_bytes(b"")
+    assert run(make_dataset, tmp_path, "--shard", "0/2") == 0
+    assert "sphere_001" not in [e["id"] for e in dataset.load_manifest(tmp_path)]
+
+
+def test_ctrl_c_stops_the_whole_run(repo, tmp_path):
+    """SIGINT, as Ctrl+C sends it, after the first sample: the run stops (not just the render under way)."""
+    command = [bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
+               "-P", str(repo / "blender_scripts" / "make_dataset.py"), "--", "--out", str(tmp_path),
+               "--shapes", "sphere,torus,suzanne", "--lights", "4", "--size", "64"]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        lines = []
+        for line in process.stdout:
+            lines.append(line)
+            if line.startswith("[1/12]"):
+                process.send_signal(signal.SIGINT)
+        code = process.wait(timeout=120)
+        error = process.stderr.read()
+    finally:
+        if process.poll() is None:
+            process.kill()
+    output = "".join(lines) + error
+    assert code == 130, output
+    assert "interrupted (Ctrl+C): the run is stopped" in error and "Traceback" not in output
+    assert not any(line.startswith("[12/12]") for line in lines), output
+    on_disk = sorted(p.name for p in tmp_path.iterdir() if p.is_dir())
+    assert 1 <= len(on_disk) < 12 and not [name for name in on_disk if name.startswith(".")], on_disk
+    assert sorted(e["id"] for e in dataset.load_manifest(tmp_path)) == on_disk  # consistent with the disk
+    assert all(dataset.check_sample(tmp_path / name) is None for name in on_disk)
+
+
+def test_stop_on_interrupt_turns_sigint_into_keyboard_interrupt_then_restores(make_dataset):
+    before = signal.getsignal(signal.SIGINT)
+    with pytest.raises(KeyboardInterrupt):
+        with make_dataset.stop_on_interrupt():
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(1000):  # the handler runs between bytecodes
+                sum(range(100))
+    assert signal.getsignal(signal.SIGINT) == before
+
+    # Inside a sample (defer_interrupt) the sample is finished first, then the run stops.
+    finished = []
+    with pytest.raises(KeyboardInterrupt):
+        with make_dataset.stop_on_interrupt(), make_dataset.defer_interrupt():
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(1000):
+                sum(range(100))
+            finished.append(True)
+    assert finished == [True] and signal.getsignal(signal.SIGINT) == before

@@ -104,3 +104,53 @@ def test_leftover_of_a_killed_write_is_neither_a_sample_nor_kept(tmp_path):
     assert not dataset.is_sample(partial) and not dataset.is_sample(tmp_path / "sphere_000")
     sphere_sample(tmp_path)
     assert [p.name for p in tmp_path.iterdir()] == ["sphere_000"]
+
+
+def _truncate(path, keep=0.5):
+    data = path.read_bytes()
+    path.write_bytes(data[: int(len(data) * keep)])
+
+
+def _replace_meta(folder, **changes):
+    meta = json.loads((folder / "meta.json").read_text())
+    meta.update(changes)
+    (folder / "meta.json").write_text(json.dumps(meta))
+
+
+@pytest.mark.parametrize("damage, message", [
+    (lambda f: _truncate(f / "image.exr"), "image.exr is unreadable"),
+    (lambda f: _truncate(f / "image.exr", 0.99), "image.exr is unreadable"),
+    (lambda f: _truncate(f / "normals.exr"), "normals.exr is unreadable"),
+    (lambda f: _truncate(f / "depth.exr"), "depth.exr is unreadable"),
+    (lambda f: _truncate(f / "image.png"), "image.png is unreadable"),
+    (lambda f: (f / "mask.png").write_bytes(b""), "mask.png is unreadable"),
+    (lambda f: (f / "normals.exr").unlink(), "normals.exr is missing"),
+    (lambda f: _truncate(f / "meta.json"), "meta.json is unreadable"),
+    (lambda f: (f / "meta.json").write_text("[1, 2]"), "meta.json is malformed"),
+    (lambda f: _replace_meta(f, files=None), "meta.json is malformed"),
+    (lambda f: _replace_meta(f, resolution=[16, 32]), "not 16 x 32"),
+    (lambda f: (f / "meta.json").unlink(), "not a sample"),
+])
+def test_check_sample_finds_damaged_files(tmp_path, damage, message):
+    sphere_sample(tmp_path)
+    folder = tmp_path / "sphere_000"
+    assert dataset.check_sample(folder) is None
+    damage(folder)
+    problem = dataset.check_sample(folder)
+    assert problem is not None and message in problem
+
+
+def test_check_sample_with_optional_files(tmp_path):
+    scene = sphere_sample(tmp_path, shadow_mask=np.zeros((32, 32), bool), albedo_map=np.full((32, 32), 0.5))
+    assert scene is not None and dataset.check_sample(tmp_path / "sphere_000") is None
+    _truncate(tmp_path / "sphere_000" / "albedo.exr")
+    assert "albedo.exr is unreadable" in dataset.check_sample(tmp_path / "sphere_000")
+
+
+@pytest.mark.parametrize("text", ["[1, 2]", "null", '"text"', "{ not json", json.dumps({"format": "other"}),
+                                  json.dumps({"format": dataset.FORMAT, "samples": "abc"}),
+                                  json.dumps({"format": dataset.FORMAT, "samples": [1]})])
+def test_a_malformed_manifest_is_a_value_error(tmp_path, text):
+    (tmp_path / dataset.MANIFEST_JSON).write_text(text)
+    with pytest.raises(ValueError):
+        dataset.load_manifest(tmp_path)

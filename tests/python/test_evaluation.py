@@ -146,14 +146,20 @@ def test_bad_datasets_and_outputs_are_evaluation_errors(tmp_path):
         evaluation.read_manifest(tmp_path / "missing")
     with pytest.raises(evaluation.EvaluationError, match="no readable manifest"):
         evaluation.read_manifest(tmp_path)
-    (tmp_path / dataset.MANIFEST_JSON).write_text("{ not json")
-    with pytest.raises(evaluation.EvaluationError, match="no readable manifest"):
-        evaluation.read_manifest(tmp_path)
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(evaluation.EvaluationError, match="is not a folder"):
+        evaluation.read_manifest(blocker)
+    for text in ("{ not json", "[1, 2]", '"text"', "null", "\xff\xfe",
+                 json.dumps({"format": "other", "samples": []}),
+                 json.dumps({"format": dataset.FORMAT, "samples": {"a": 1}}),
+                 json.dumps({"format": dataset.FORMAT, "samples": [1, 2]})):
+        (tmp_path / dataset.MANIFEST_JSON).write_text(text)
+        with pytest.raises(evaluation.EvaluationError, match="malformed manifest"):
+            evaluation.read_manifest(tmp_path)
     (tmp_path / dataset.MANIFEST_JSON).write_text(json.dumps({"format": dataset.FORMAT, "samples": [{"id": "a"}]}))
     with pytest.raises(evaluation.EvaluationError, match="without shape, folder"):
         evaluation.read_manifest(tmp_path)
-    blocker = tmp_path / "file"
-    blocker.write_text("")
     with pytest.raises(evaluation.EvaluationError, match="cannot write to the output folder"):
         evaluation.prepare_output(blocker / "out")
 

@@ -48,15 +48,19 @@ def prepare_output(folder: os.PathLike | str) -> Path:
 def read_manifest(dataset_dir: os.PathLike | str) -> list[dict]:
     """The dataset's manifest entries, checked; EvaluationError for a missing or malformed dataset."""
     dataset_dir = Path(dataset_dir)
-    if not dataset_dir.is_dir():
+    if not dataset_dir.exists():
         raise EvaluationError(f"the dataset folder {dataset_dir} does not exist")
+    if not dataset_dir.is_dir():
+        raise EvaluationError(f"the dataset {dataset_dir} is not a folder (give the folder that holds "
+                              f"{_dataset.MANIFEST_JSON} and the sample folders)")
     try:
         entries = _dataset.load_manifest(dataset_dir)
-    # json.JSONDecodeError is a ValueError; a manifest of the wrong JSON type fails on .get or [].
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as error:
+    except OSError as error:  # missing or unreadable file
         raise EvaluationError(f"the dataset {dataset_dir} has no readable manifest: {error}") from None
+    except ValueError as error:  # not JSON (json.JSONDecodeError), or JSON of the wrong shape
+        raise EvaluationError(f"the dataset {dataset_dir} has a malformed manifest: {error}") from None
     if not isinstance(entries, list) or not all(isinstance(entry, dict) for entry in entries):
-        raise EvaluationError(f"the manifest of {dataset_dir} does not hold a list of samples")
+        raise EvaluationError(f"the dataset {dataset_dir} has a malformed manifest: it does not hold a list of samples")
     if not entries:
         raise EvaluationError(f"the dataset {dataset_dir} lists no sample")
     for entry in entries:

@@ -38,6 +38,10 @@ def normal_errors(normals: np.ndarray, truth: np.ndarray, mask: np.ndarray, erod
     the normals are not finite there (a method that produced NaN has failed, not scored 0).
     """
     inside = erode_mask(mask, erode)
+    normals = np.asarray(normals)
+    # Checked here (the core checks it too, in its words): a method's NaN is a failure of the method.
+    if normals.shape[:2] == inside.shape and not np.isfinite(normals[inside]).all():
+        raise ValueError("the reconstructed normals are not finite (or are zero) on the mask")
     errors = angular_error_map(normals, truth, inside)[inside]
     if errors.size == 0:
         raise ValueError(f"the mask eroded by {erode} pixels is empty: nothing to measure")
