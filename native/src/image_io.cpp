@@ -141,6 +141,9 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
   // Alpha is only a mask here: the intensities must come back as stored, not premultiplied by it.
   config.attribute("oiio:UnassociatedAlpha", 1);
   require_path("load_image", path);
+  std::error_code status;
+  if (std::filesystem::is_directory(path, status)) throw IoError("cannot read image \"" + path + "\": it is a folder");
+  if (!std::filesystem::exists(path, status)) throw IoError("cannot read image \"" + path + "\": there is no such file");
   auto input = OIIO::ImageInput::open(path, &config);
   if (!input) throw IoError("cannot read image \"" + path + "\": " + OIIO::geterror());
   const OIIO::ImageSpec spec = input->spec();

@@ -157,3 +157,10 @@ def test_nan_or_zero_normals_inside_the_mask_are_refused():
     outside = np.ones((8, 8), bool)
     outside[3, 4] = False  # a NaN outside the mask is never read
     assert shadecut.render(broken, LIGHT, 1.0, outside)[3, 4] == 0.0
+
+
+def test_a_folder_or_a_missing_file_is_named_as_such(tmp_path):
+    with pytest.raises(OSError, match="it is a folder"):
+        shadecut.load_image(tmp_path)
+    with pytest.raises(OSError, match="no such file"):
+        shadecut.load_image(tmp_path / "missing.png")
