@@ -11,7 +11,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .. import angular_error_map, erode_mask
+from .. import angular_error_map, erode_mask, mask_components
 
 ERODE_PIXELS = 2
 THRESHOLDS = (11.25, 22.5, 30.0)  # degrees, the customary shares of shape-from-shading papers
@@ -56,25 +56,18 @@ def normal_errors(normals: np.ndarray, truth: np.ndarray, mask: np.ndarray, erod
 def mask_parts(mask: np.ndarray) -> np.ndarray:
     """Labels the 4-connected parts of a mask: each pixel gets the smallest flat index of its part.
 
-    Outside the mask the label is ``mask.size``. Labels spread to the smaller 4-neighbour, then jump
-    to the label of the pixel they name (pointer jumping), so that long, thin parts settle in a few
-    sweeps instead of one sweep per pixel of their length. Numpy only: the add-on runs inside
-    Blender builds that bundle numpy but no scipy.
+    Outside the mask the label is ``mask.size``. The parts are the core's (:func:`shadecut.mask_components`,
+    the integrator's own), each named here by its first pixel in raster order.
     """
     mask = np.asarray(mask, dtype=bool)
-    outside = mask.size
-    labels = np.where(mask, np.arange(mask.size).reshape(mask.shape), outside)
-    while True:
-        spread = labels.copy()
-        np.minimum(spread[1:], labels[:-1], out=spread[1:])
-        np.minimum(spread[:-1], labels[1:], out=spread[:-1])
-        np.minimum(spread[:, 1:], labels[:, :-1], out=spread[:, 1:])
-        np.minimum(spread[:, :-1], labels[:, 1:], out=spread[:, :-1])
-        spread = np.where(mask, spread, outside)
-        spread = np.append(spread.ravel(), outside)[spread]
-        if np.array_equal(spread, labels):
-            return labels
-        labels = spread
+    labels, _ = mask_components(mask)
+    flat = labels.ravel()
+    inside = np.flatnonzero(flat >= 0)
+    # The core numbers the parts in the raster order of their first pixels: part k starts at the k-th new label.
+    _, first = np.unique(flat[inside], return_index=True)
+    named = np.full(mask.size, mask.size, dtype=np.int64)
+    named[inside] = inside[first][flat[inside]]
+    return named.reshape(mask.shape)
 
 
 def depth_errors(depth: np.ndarray, truth: np.ndarray, mask: np.ndarray, erode: int = ERODE_PIXELS) -> dict:
@@ -88,7 +81,7 @@ def depth_errors(depth: np.ndarray, truth: np.ndarray, mask: np.ndarray, erode: 
     inside = erode_mask(mask, erode)
     if not inside.any():
         raise ValueError(f"the mask eroded by {erode} pixels is empty: nothing to measure")
-    _, part = np.unique(mask_parts(mask)[inside], return_inverse=True)  # parts numbered 0, 1, ...
+    _, part = np.unique(mask_components(mask)[0][inside], return_inverse=True)  # parts numbered 0, 1, ...
     pixels = np.bincount(part)
 
     def centred(values: np.ndarray) -> np.ndarray:
