@@ -10,6 +10,7 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -47,13 +48,14 @@ void option(py::class_<ReconstructOptions>& options, std::vector<std::string>& n
 }
 
 // A copy of `options` with the named fields set; an unknown name is a TypeError, as for a function.
-ReconstructOptions replaced(ReconstructOptions options, const py::kwargs& overrides) {
+ReconstructOptions replaced(const std::vector<std::string>& names, ReconstructOptions options,
+                            const py::kwargs& overrides) {
   // Cast by move: casting the caller's own object would find and change it.
   py::object copy = py::cast(std::move(options));
-  const py::tuple names = py::module_::import("shadecut._core").attr("OPTION_NAMES");
   for (const auto& [key, value] : overrides) {
-    if (!names.contains(key))
-      throw py::type_error("shadecut: unknown option '" + key.cast<std::string>() + "'; the options are " +
+    const std::string name = key.cast<std::string>();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      throw py::type_error("shadecut: unknown option '" + name + "'; the options are " +
                            py::str(", ").attr("join")(names).cast<std::string>());
     copy.attr(key) = value;
   }
@@ -101,16 +103,18 @@ void bind_reconstruct(py::module_& m) {
   m.attr("OPTION_NAMES") = py::tuple(py::cast(names));
   m.attr("MIN_LABELS") = kMinLabels;
   m.attr("MAX_THREADS") = kMaxThreads;
-  options.def(py::init([](const py::kwargs& overrides) { return replaced(ReconstructOptions{}, overrides); }),
+  options.def(py::init([names](const py::kwargs& overrides) { return replaced(names, ReconstructOptions{}, overrides); }),
               "The defaults, with the given fields set (unknown names raise TypeError).");
-  options.def("replace", &replaced, "A copy with the given fields set.");
-  options.def("__repr__", [](const py::object& self) {
+  options.def(
+      "replace",
+      [names](const ReconstructOptions& self, const py::kwargs& overrides) { return replaced(names, self, overrides); },
+      "A copy with the given fields set.");
+  options.def("__repr__", [names](const py::object& self) {
     std::string text = "ReconstructOptions(";
-    const py::tuple fields = py::module_::import("shadecut._core").attr("OPTION_NAMES");
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-      const py::object value = self.attr(fields[i]);
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const py::object value = self.attr(names[i].c_str());
       const bool is_enum = py::hasattr(value, "name") && py::hasattr(value, "value");
-      text += std::string(i ? ", " : "") + fields[i].cast<std::string>() + "=" +
+      text += std::string(i ? ", " : "") + names[i] + "=" +
               (is_enum ? "'" + value.attr("name").cast<std::string>() + "'" : py::repr(value).cast<std::string>());
     }
     return text + ")";

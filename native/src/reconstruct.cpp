@@ -23,6 +23,11 @@ namespace {
 // The share of the call's progress spent on the normals; shadows and integration take the rest.
 constexpr double kNormalsShare = 0.9;
 
+// Whether the mask's edge is the object's outline (an occluding contour): never for a relief.
+bool edge_is_outline(const ReconstructOptions& options) {
+  return options.occluding_contour && options.scene == SceneKind::Object;
+}
+
 void check_options(const ReconstructOptions& options) {
   if (options.threads < 0 || options.threads > kMaxThreads)
     throw InvalidArgument("shadecut: threads must be in 0 .. " + std::to_string(kMaxThreads) + " (0 = all cores); got " +
@@ -46,11 +51,12 @@ class ThreadScope {
   int saved_;
 };
 
-// The light frame and albedo used: given, or estimated from the image (the albedo with the light
-// when the light is estimated, else from the brightest pixels).
-LightFrame choose_lighting(const ImageF& image, const Mask& mask, const std::optional<Eigen::Vector3d>& light,
-                     std::optional<double> albedo, const ReconstructOptions& options, const Progress& progress,
-                     Reconstruction& result) {
+// The light frame and albedo used: given, or estimated from the image (an object's albedo with its
+// estimated light; otherwise estimate_albedo's, or a relief's median). `brightest` is the largest
+// masked intensity.
+LightFrame choose_lighting(const ImageF& image, const Mask& mask, float brightest, const std::optional<Eigen::Vector3d>& light,
+                           std::optional<double> albedo, const ReconstructOptions& options, const Progress& progress,
+                           Reconstruction& result) {
   Eigen::Vector3d direction;
   if (light) {
     direction = *light;
@@ -71,7 +77,7 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, const std::opt
   else if (options.scene == SceneKind::Relief) result.albedo = relief_albedo(image, mask, frame.direction);
   else result.albedo = estimate_albedo(image, mask, options.albedo_method);
   if (!(result.albedo > 0.0) || !std::isfinite(result.albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
-  if ((image * mask.cast<float>()).maxCoeff() <= 1e-6f * result.albedo)
+  if (brightest <= 1e-6f * result.albedo)
     throw InvalidArgument("shadecut: the image is dark everywhere in the mask compared with the albedo " +
                           std::to_string(result.albedo) + "; nothing to reconstruct");
   return frame;
@@ -91,7 +97,7 @@ NormalMap brooks_horn_normals(const ImageF& image, const Mask& mask, const Light
   params.smoothness = std::max(kStableSmoothness, smoothness * per_pixel);
   params.iterations = options.iterations.value_or(defaults.iterations);
   params.tolerance = options.tolerance.value_or(defaults.tolerance);
-  params.occluding_contour = options.occluding_contour && options.scene == SceneKind::Object;
+  params.occluding_contour = edge_is_outline(options);
   BrooksHornResult solved = brooks_horn(image, mask, frame, albedo, params, progress);
   stats.iterations = solved.iterations;
   return std::move(solved.normals);
@@ -189,7 +195,6 @@ MethodDefaults method_defaults(Method method) {
   throw InvalidArgument("shadecut: unknown method");
 }
 
-
 Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask_in,
                            std::optional<double> albedo, const ReconstructOptions& options) {
   const Stopwatch total;
@@ -199,13 +204,14 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
   check_options(options);
   // Cheap, and before the estimates that cost a pass of median filtering over the image.
-  if (!((image * mask.cast<float>()).maxCoeff() > 0.0f))
+  const float brightest = mask.select(image, 0.0f).maxCoeff();
+  if (!(brightest > 0.0f))
     throw InvalidArgument("shadecut: the image is dark everywhere in the mask (zero); nothing to reconstruct");
   const Progress progress(options.progress);
 
   Reconstruction result;
   result.mask = mask;
-  const LightFrame frame = choose_lighting(image, mask, light, albedo, options, progress, result);
+  const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
   const ThreadScope threads(options.threads);
   result.normals = solve_normals(image, mask, frame, result.albedo, options, progress.range(0.0, kNormalsShare), result.stats);
 
@@ -213,8 +219,7 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   const Stopwatch integration;
   const double shadow_threshold = options.fill_shadows ? options.shadow_threshold : -1.0;
   const Mask unreliable = unreliable_pixels(image, mask, result.albedo, shadow_threshold, options.highlight_threshold);
-  const bool outline = options.occluding_contour && options.scene == SceneKind::Object;
-  result.stats.shadow_pixels = fill_normals(result.normals, unreliable, mask, outline);
+  result.stats.shadow_pixels = fill_normals(result.normals, unreliable, mask, edge_is_outline(options));
   result.depth = integrate_normals(result.normals, mask, options.integrator, options.max_slope);
   if (options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);
   result.stats.seconds["integration"] = integration.seconds();
