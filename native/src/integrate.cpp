@@ -3,9 +3,8 @@
 #include <shadecut/mask_components.hpp>
 
 #include "enum_names.hpp"
+#include "grid_poisson.hpp"
 
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 #include <opencv2/core.hpp>
 
 #include <algorithm>
@@ -25,6 +24,10 @@ constexpr double kPi = 3.14159265358979323846;
 // Below this n_z a normal is treated as grazing: its slope is the clamp value, in the direction the
 // normal tilts. This also covers normals facing away from the viewer, which a height field cannot have.
 constexpr double kGrazingNz = 1e-6;
+
+// Relative residual at which the Poisson solve stops: the depth then matches the exact least-squares
+// solution to about 1e-7 of its range (tests/cpp/test_integrate.cpp compares it with a direct solve).
+constexpr double kPoissonTolerance = 1e-8;
 
 struct Gradients {
   std::vector<double> p;  // dz/dx per pixel, x = column
@@ -98,80 +101,16 @@ ImageF shift_components_to_zero(const std::vector<double>& depth, const MaskComp
 }
 
 // Least squares over the mask's own edges: sum over 4-neighbour pairs (a, b) of (z_b - z_a - g_ab)^2,
-// g_ab being the mean of the two pixels' gradients along the edge. The normal equations are the
-// graph Laplacian of the mask. Each component's Laplacian is singular (a constant can be added), so
-// the first pixel of each component is pinned at 0 and drops out of the system; that leaves the
-// minimiser unchanged and makes the matrix positive definite.
-std::vector<double> integrate_poisson(const Gradients& gradients, const MaskComponents& components) {
-  const int rows = int(components.labels.rows());
-  const int cols = int(components.labels.cols());
-  const std::size_t pixel_count = std::size_t(rows) * cols;
-
-  constexpr int kNoUnknown = -1;
-  std::vector<int> unknown(pixel_count, kNoUnknown);
-  std::vector<bool> pinned(std::size_t(components.count), false);
-  int unknown_count = 0;
-  for (int r = 0; r < rows; ++r) {
-    const std::int32_t* label = &components.labels(r, 0);
-    for (int c = 0; c < cols; ++c) {
-      if (label[c] < 0) continue;
-      if (!pinned[label[c]]) {
-        pinned[label[c]] = true;
-      } else {
-        unknown[std::size_t(r) * cols + c] = unknown_count++;
-      }
-    }
+// g_ab being the mean of the two pixels' gradients along the edge.
+std::vector<double> integrate_poisson(const Gradients& gradients, const Mask& mask, const Progress& progress) {
+  const std::size_t cols = std::size_t(mask.cols());
+  const std::size_t pixel_count = std::size_t(mask.size());
+  detail::EdgeRises rises{std::vector<double>(pixel_count, 0.0), std::vector<double>(pixel_count, 0.0)};
+  for (std::size_t a = 0; a < pixel_count; ++a) {
+    if (a % cols + 1 < cols) rises.right[a] = 0.5 * (gradients.p[a] + gradients.p[a + 1]);
+    if (a + cols < pixel_count) rises.down[a] = -0.5 * (gradients.q[a] + gradients.q[a + cols]);  // y is up
   }
-
-  std::vector<double> depth(pixel_count, 0.0);
-  if (unknown_count == 0) return depth;
-
-  // Only the lower triangle is stored: the solver reads no more.
-  std::vector<Eigen::Triplet<double>> lower;
-  lower.reserve(std::size_t(unknown_count) * 3);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(unknown_count);
-  auto add_edge = [&](std::size_t a, std::size_t b, double rise) {
-    const int ua = unknown[a];
-    const int ub = unknown[b];
-    if (ua != kNoUnknown) {
-      lower.emplace_back(ua, ua, 1.0);
-      rhs[ua] -= rise;
-    }
-    if (ub != kNoUnknown) {
-      lower.emplace_back(ub, ub, 1.0);
-      rhs[ub] += rise;
-    }
-    if (ua != kNoUnknown && ub != kNoUnknown) lower.emplace_back(std::max(ua, ub), std::min(ua, ub), -1.0);
-  };
-  for (int r = 0; r < rows; ++r) {
-    const std::int32_t* label = &components.labels(r, 0);
-    const std::int32_t* label_below = r + 1 < rows ? &components.labels(r + 1, 0) : nullptr;
-    for (int c = 0; c < cols; ++c) {
-      if (label[c] < 0) continue;
-      const std::size_t a = std::size_t(r) * cols + c;
-      if (c + 1 < cols && label[c + 1] >= 0) {
-        add_edge(a, a + 1, 0.5 * (gradients.p[a] + gradients.p[a + 1]));
-      }
-      if (label_below != nullptr && label_below[c] >= 0) {
-        const std::size_t b = a + cols;
-        add_edge(a, b, -0.5 * (gradients.q[a] + gradients.q[b]));  // y is up: one row down is -q
-      }
-    }
-  }
-
-  Eigen::SparseMatrix<double> laplacian(unknown_count, unknown_count);
-  laplacian.setFromTriplets(lower.begin(), lower.end());
-  lower = {};  // the factorisation needs the memory more
-
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(laplacian);
-  if (solver.info() != Eigen::Success) {
-    throw std::runtime_error("integrate_normals: the Poisson system could not be factorised");
-  }
-  const Eigen::VectorXd solution = solver.solve(rhs);
-  for (std::size_t i = 0; i < pixel_count; ++i) {
-    if (unknown[i] != kNoUnknown) depth[i] = solution[unknown[i]];
-  }
-  return depth;
+  return detail::solve_grid_poisson(mask, rises, kPoissonTolerance, progress);
 }
 
 // Angular frequency of DFT bin k of n, in radians per pixel. The Nyquist bin of an even n gets 0: it
@@ -265,13 +204,14 @@ Integrator parse_integrator(const std::string& name) { return parse_enum<Integra
 
 std::string to_string(Integrator integrator) { return integrator_names().at(std::size_t(integrator)); }
 
-ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope) {
+ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope,
+                         const Progress& progress) {
   validate(normals, mask, max_slope);
   Gradients gradients = surface_gradients(normals, mask, max_slope);
   const MaskComponents components = mask_components(mask);
   switch (method) {
     case Integrator::Poisson:
-      return shift_components_to_zero(integrate_poisson(gradients, components), components);
+      return shift_components_to_zero(integrate_poisson(gradients, mask, progress), components);
     case Integrator::FrankotChellappa:
       return shift_components_to_zero(integrate_frankot_chellappa(std::move(gradients), mask), components);
   }

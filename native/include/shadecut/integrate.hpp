@@ -1,6 +1,7 @@
 // Integration of a normal field into a depth map.
 #pragma once
 
+#include <shadecut/progress.hpp>
 #include <shadecut/types.hpp>
 
 #include <string>
@@ -9,7 +10,7 @@
 namespace shadecut {
 
 enum class Integrator {
-  Poisson,           ///< Least squares on the mask's own pixels (Eigen sparse); respects any mask shape.
+  Poisson,           ///< Least squares on the mask's own pixels; respects any mask shape.
   FrankotChellappa,  ///< Projection onto integrable Fourier bases (the paper's choice); whole rectangle,
                      ///< periodic, gradients 0 outside the mask. The mean masked gradient, which no
                      ///< periodic basis holds, is integrated separately as a plane, so planes come out
@@ -30,18 +31,22 @@ std::string to_string(Integrator integrator);
 /// facing away) gets the clamped slope in the direction it tilts.
 ///
 /// Poisson minimises, over every pair (a, b) of 4-neighbours both in the mask, (z_b - z_a - g_ab)^2
-/// with g_ab the mean of the two pixels' gradients along that edge; it is solved exactly (sparse
-/// LDLT), one independent surface per 4-connected component.
+/// with g_ab the mean of the two pixels' gradients along that edge, one independent surface per
+/// 4-connected component. It is solved by conjugate gradients preconditioned with an aggregation
+/// multigrid V-cycle, to a relative residual of 1e-8: the exact least-squares depth to about 1e-7
+/// of its range, in time linear in the pixel count; the same bits for any number of threads.
 ///
 /// @param[in] normals   H x W unit normals, camera frame. Normals outside the mask are never read.
 /// @param[in] mask      H x W; only masked pixels are integrated (Poisson) or carry gradients (FC).
 /// @param[in] method    which integrator.
 /// @param[in] max_slope bound on |p| and |q|, depth units per pixel; must be positive and finite.
+/// @param[in] progress  told the fraction done, as stage "integration" (Poisson); may throw Cancelled.
 /// @return H x W depth in pixel units, larger = closer to the viewer. Every 4-connected component of
 ///         the mask is shifted so that its minimum is 0 (both methods; a one-pixel component is 0);
 ///         pixels outside the mask are 0. An empty mask gives all zeros.
 /// @throws InvalidArgument for an empty normal map, a mask or vector count that does not match it,
 ///         a bad max_slope, or a non-finite normal inside the mask.
-ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope = 10.0);
+ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope = 10.0,
+                         const Progress& progress = {});
 
 }  // namespace shadecut
