@@ -59,6 +59,8 @@ options:
                        method's own)
   --band B             coarse to fine: keep the labels within B steps of the half-resolution
                        solution's (default )" << defaults.coarse_to_fine_band << R"(); -1 = exact alpha-expansion over every label
+  --band-radius R      coarse to fine: only pixels within R pixels of a jump of the half-resolution
+                       labels keep the band (default )" << defaults.coarse_to_fine_radius << R"(); -1 = every pixel
   --threads N          threads, 0 = all cores (default )" << defaults.threads << R"()
   --quiet              no progress
 )";
@@ -166,6 +168,8 @@ int main(int argc, char** argv) {
         options.tolerance = parse_number(arg, value());
       } else if (arg == "--band") {
         options.coarse_to_fine_band = parse_integer(arg, value());
+      } else if (arg == "--band-radius") {
+        options.coarse_to_fine_radius = parse_integer(arg, value());
       } else if (arg == "--threads") {
         options.threads = parse_integer(arg, value());
       } else if (arg == "--quiet") {

@@ -87,6 +87,7 @@ void bind_reconstruct(py::module_& m) {
   enum_option(options, names, "integrator", &ReconstructOptions::integrator, &parse_integrator);
   option(options, names, "max_cycles", &ReconstructOptions::max_cycles);
   option(options, names, "coarse_to_fine_band", &ReconstructOptions::coarse_to_fine_band);
+  option(options, names, "coarse_to_fine_radius", &ReconstructOptions::coarse_to_fine_radius);
   option(options, names, "tolerance", &ReconstructOptions::tolerance);
   option(options, names, "iterations", &ReconstructOptions::iterations);
   option(options, names, "smoothness", &ReconstructOptions::smoothness);

@@ -6,6 +6,7 @@
 #include "stopwatch.hpp"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace shadecut {
 
@@ -28,6 +29,52 @@ std::vector<int> upsample_labels(const std::vector<int>& coarse, const Mask& coa
     }
   }
   return centre;
+}
+
+// The pixels that keep only their coarse label: those farther than `radius` (Chebyshev distance)
+// from every jump of the upsampled labelling, a jump being a pair of 4-neighbours more than one label
+// step apart or a masked pixel next to one without a coarse label. Where the coarse labels vary
+// smoothly the fine level has nothing to decide that the snapping to the local candidates
+// (labelling_normals) does not; where they jump, the convex/concave boundary is only known to a
+// coarse pixel.
+std::vector<std::uint8_t> frozen_pixels(const std::vector<int>& centre, const Mask& mask, int labels, int radius) {
+  const int rows = int(mask.rows()), cols = int(mask.cols());
+  radius = std::min(radius, std::max(rows, cols));  // farther reaches nothing more
+  std::vector<std::uint8_t> near_jump(centre.size(), 0);
+  auto jump = [&](std::size_t a, std::size_t b) {
+    if (centre[a] < 0 || centre[b] < 0) return centre[a] != centre[b];
+    const int steps = std::abs(centre[a] - centre[b]);
+    return std::min(steps, labels - steps) > 1;
+  };
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t a = std::size_t(r) * cols + c;
+      if (!mask.data()[a]) continue;
+      if (c + 1 < cols && mask.data()[a + 1] && jump(a, a + 1)) near_jump[a] = near_jump[a + 1] = 1;
+      if (r + 1 < rows && mask.data()[a + cols] && jump(a, a + cols)) near_jump[a] = near_jump[a + cols] = 1;
+      if (centre[a] < 0) near_jump[a] = 1;
+    }
+  }
+  // Dilation by a (2 radius + 1)^2 square, separably: rows, then columns; a target is covered when
+  // the last jump seen, `radius` cells ahead of it, lies within 2 radius.
+  std::vector<std::uint8_t> across(centre.size(), 0), frozen(centre.size(), 1);
+  for (int r = 0; r < rows; ++r) {
+    int last = -radius - 1;
+    for (int c = 0; c < cols + radius; ++c) {
+      if (c < cols && near_jump[std::size_t(r) * cols + c]) last = c;
+      const int target = c - radius;
+      if (target >= 0 && c - last <= 2 * radius) across[std::size_t(r) * cols + target] = 1;
+    }
+  }
+  for (int c = 0; c < cols; ++c) {
+    int last = -radius - 1;
+    for (int r = 0; r < rows + radius; ++r) {
+      if (r < rows && across[std::size_t(r) * cols + c]) last = r;
+      const int target = r - radius;
+      if (target >= 0 && r - last <= 2 * radius) frozen[std::size_t(target) * cols + c] = 0;
+    }
+  }
+  return frozen;
 }
 
 // The start of a fine level: the allowed label nearest the centre; the convex labelling where there
@@ -78,6 +125,11 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   energy_params.undefined_weight *= scale;
   energy_params.band_centre = centre.empty() ? nullptr : &centre;
   energy_params.band = params.band;
+  std::vector<std::uint8_t> frozen;
+  if (!centre.empty() && params.band_radius >= 0) {
+    frozen = frozen_pixels(centre, mask, params.energy.labels, params.band_radius);
+    energy_params.band_frozen = &frozen;
+  }
   const TiltEnergy energy(local, light, mask, energy_params);
   result.seconds["energy"] += stage.seconds();
   progress.report(0.05, "graphcut");

@@ -101,10 +101,11 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     return k == terms.concave_label || k == terms.convex_label ? 0.0f : kProhibited;
   };
 
-  // The windows: a pixel with a band centre keeps the band, unless no label in it is allowed; then,
-  // like every other masked pixel, it keeps all labels.
-  const int band_width = params.band >= 0 && params.band_centre ? std::min(2 * params.band + 1, k_count) : k_count;
-  planes_ = band_width == k_count;
+  // The windows: a pixel with a band centre keeps the band (or only its centre, when frozen), unless
+  // no label in it is allowed; then it tries the band, and then, like every other masked pixel, keeps
+  // all labels.
+  const bool banded = params.band >= 0 && params.band_centre;
+  planes_ = !banded || (2 * params.band + 1 >= k_count && !params.band_frozen);
   const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
   if (!planes_) {
     window_first_.assign(std::size_t(n), 0);
@@ -116,9 +117,13 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
       const int centre = (*params.band_centre)[std::size_t(p)];
       if (centre >= 0) {
         const PixelTerms terms = pixel_terms(p);
-        const int first = (centre - params.band + k_count) % k_count;
-        for (int j = 0; j < band_width && width == k_count; ++j)
-          if (std::isfinite(label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
+        const bool frozen = params.band_frozen && (*params.band_frozen)[std::size_t(p)];
+        for (int half = frozen ? 0 : params.band; half <= params.band && width == k_count; half += std::max(1, params.band)) {
+          const int first = (centre - half + k_count) % k_count;
+          const int band_width = std::min(2 * half + 1, k_count);
+          for (int j = 0; j < band_width && width == k_count; ++j)
+            if (std::isfinite(label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
+        }
       }
       window_begin_[std::size_t(p) + 1] = width;
     }

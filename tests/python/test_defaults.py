@@ -27,6 +27,7 @@ def test_the_cli_help_states_the_bound_defaults():
     assert int(cli_default(help_text, "--labels")) == DEFAULTS.labels
     assert float(cli_default(help_text, "--data-weight")) == DEFAULTS.data_weight
     assert int(cli_default(help_text, "--band")) == DEFAULTS.coarse_to_fine_band
+    assert int(cli_default(help_text, "--band-radius")) == DEFAULTS.coarse_to_fine_radius
     assert int(cli_default(help_text, "--threads")) == DEFAULTS.threads
     assert "--maxflow" not in help_text  # the test solvers are no user option
 

@@ -93,13 +93,21 @@ def test_a_tolerance_stops_earlier_at_the_same_accuracy(mozart_path):
 def test_coarse_to_fine_reaches_the_exact_minimum_s_accuracy(scene):
     truth = getattr(synthetic, scene)((1.0, 0.0, 1.0), size=256)
     exact_error, exact = error_of(truth, "graphcut", coarse_to_fine_band=-1)
+    everywhere_error, everywhere = error_of(truth, "graphcut", coarse_to_fine_radius=-1)
     fast_error, fast = error_of(truth, "graphcut")
-    print(f"{scene} 256 px: exact alpha-expansion {exact_error:.2f} deg, energy {exact.stats.energy_per_cycle[-1]:.1f}; "
-          f"coarse to fine {fast_error:.2f} deg, energy {fast.stats.energy_per_cycle[-1]:.1f}, {fast.stats.levels} levels")
+    energy = {name: run.stats.energy_per_cycle[-1] for name, run in
+              (("exact", exact), ("band everywhere", everywhere), ("default", fast))}
+    print(f"{scene} 256 px: exact alpha-expansion {exact_error:.2f} deg; band everywhere {everywhere_error:.2f} deg; "
+          f"default (band near the coarse jumps) {fast_error:.2f} deg; energies {energy}")
     assert exact.stats.levels == 1 and fast.stats.levels == 3  # 256 -> 128 -> 64 px
     assert abs(fast_error - exact_error) <= 0.25
-    # A local minimum of the banded moves: measured 1.8% (sphere) and 0.9% (bumps) above the exact one.
-    assert fast.stats.energy_per_cycle[-1] <= 1.03 * exact.stats.energy_per_cycle[-1]
+    assert abs(everywhere_error - exact_error) <= 0.25
+    # Local minima of the banded moves: with the band everywhere measured 1.8% (sphere) and 0.9%
+    # (bumps) above the exact one; with the band only near the coarse jumps 3.2% and 0.9%, the smooth
+    # parts keeping the coarse labels' one-step quantisation, which the snapping to the local
+    # candidates removes from the normals.
+    assert energy["band everywhere"] <= 1.03 * energy["exact"]
+    assert energy["default"] <= 1.05 * energy["exact"]
 
 
 def test_albedo_is_estimated_from_the_brightest_pixels():

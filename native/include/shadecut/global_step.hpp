@@ -28,6 +28,11 @@ struct GlobalStepParams {
   /// within `band` label steps of its coarse label. < 0: one level, every label (the exact
   /// alpha-expansion of the full-resolution energy).
   int band = -1;
+  /// Coarse to fine, banded (Lombaert et al. 2005): at a finer level only pixels within this many
+  /// pixels of a jump of the upsampled coarse labelling (neighbours more than one label step apart,
+  /// or without a coarse label) keep the band; the others keep their coarse label. < 0: the band
+  /// everywhere.
+  int band_radius = -1;
   double coarsest_object_size = 48.0;
   bool refine = true;  ///< labelling_normals' refine
 };

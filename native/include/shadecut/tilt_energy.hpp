@@ -39,6 +39,9 @@ struct TiltEnergyParams {
   /// of them is allowed there: then it keeps them all. Null or band < 0: every label.
   const std::vector<int>* band_centre = nullptr;
   int band = -1;
+  /// With a band: pixels where band_frozen[p] != 0 keep only their centre label (a band of 0), or
+  /// the band when the centre is not allowed there. Null: the band everywhere.
+  const std::vector<std::uint8_t>* band_frozen = nullptr;
 };
 
 /// E(labels) = sum_p R_p(theta_p) + sum over 4-neighbours (p, q) of
@@ -73,6 +76,10 @@ class TiltEnergy {
     int steps = k - window_first_[std::size_t(pixel)];
     if (steps < 0) steps += labels_;
     return steps < window_begin_[std::size_t(pixel) + 1] - begin ? begin + steps : -1;
+  }
+  /// Number of labels in the pixel's window (K without a band); some of them may be prohibited.
+  int window_width(int pixel) const {
+    return planes_ ? labels_ : int(window_begin_[std::size_t(pixel) + 1] - window_begin_[std::size_t(pixel)]);
   }
   /// Number of slots.
   std::int64_t slot_count() const { return std::int64_t(data_cost_.size()); }
