@@ -48,7 +48,9 @@ class MoveSolver {
         // is work lost, so the budget is generous).
         repair_limit_(variable_.size() / 2),
         repair_budget_(8 * long(variable_.size())) {
-    graph_.reset(energy.rows(), energy.cols());
+    // A pixel with a single label never switches; coarse to fine leaves most pixels so.
+    for (int p = 0; p < int(variable_.size()); ++p)
+      if (energy.mask().data()[p] && energy.window_width(p) > 1) open_pixels_.push_back(p);
   }
 
   // Solves the move of label `alpha`: `changed` gets the pixels that switch in its minimum cut
@@ -69,6 +71,8 @@ class MoveSolver {
       // capacities, leaves less to push than none (7% fewer instructions at 384 x 384).
       if (!flows_->started()) flows_->start_from(alpha - 1);
     }
+    // Sized at the first full cut: where the repairs solve every move, the graph is never needed.
+    if (graph_.size() == 0) graph_.reset(terms_.rows(), terms_.cols());
     if (!detail::build_move(terms_, flows_.get(), graph_, variable_)) {
       // The kept flow was not cut back to an empty move: the label's next move starts over from the
       // full graph.
@@ -102,7 +106,7 @@ class MoveSolver {
       // every variable pixel "changed"; where those are few (coarse to fine keeps most labels out of
       // most pixels) the search around them solves it without a full graph.
       touched_.clear();
-      for (int p = 0; p < graph_.size(); ++p)
+      for (int p : open_pixels_)
         if (terms_.variable(p)) touched_.push_back(p);
       if (touched_.size() > repair_limit_) return false;
       flows_->start_from(-1);
@@ -121,6 +125,7 @@ class MoveSolver {
   std::unique_ptr<KeptFlows> flows_;  // null: every move is cut from scratch
   std::unique_ptr<Repair> repair_;    // made at the first repair
   std::vector<int> touched_;
+  std::vector<int> open_pixels_;  // masked pixels with more than one label in their window
   const std::size_t repair_limit_;
   const long repair_budget_;
 };
