@@ -9,6 +9,13 @@ namespace shadecut::detail {
 
 namespace {
 
+// Levels smaller than this run on one thread: their work is shorter than what waking the other
+// threads costs, and on a busy machine a thread waiting at a barrier for one that lost its core
+// costs far more (with every level parallel, 2 threads took 65 times as long as 1 at 512 x 512 with
+// one other busy process). Rows are handed out in small chunks for the same reason: a thread that
+// lost its core holds up the others by one chunk, not by half the grid.
+constexpr std::size_t kParallelCells = std::size_t(1) << 18;
+
 // A per-cell array with a row and a cell of zeros before and after it, so that the four neighbours
 // of any cell can be read without bounds checks: the weights toward cells off the grid are 0.
 class Field {
@@ -95,7 +102,7 @@ void apply(const Level& level, const double* x, double* out) {
   const double* down = level.down.data();
   const double* diag = level.diagonal.data();
   const std::ptrdiff_t cols = level.cols;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
   for (int r = 0; r < level.rows; ++r) {
     for (std::ptrdiff_t i = r * cols, end = i + cols; i < end; ++i) {
       out[i] = diag[i] * x[i] - right[i] * x[i + 1] - right[i - 1] * x[i - 1] - down[i] * x[i + cols] -
@@ -113,7 +120,7 @@ void relax(Level& level, int colour) {
   const double* rhs = level.rhs.data();
   double* x = level.solution.data();
   const std::ptrdiff_t cols = level.cols;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
   for (int r = 0; r < level.rows; ++r) {
     for (std::ptrdiff_t i = r * cols + (r + colour) % 2, end = (r + 1) * cols; i < end; i += 2) {
       x[i] = inverse[i] * (rhs[i] + right[i] * x[i + 1] + right[i - 1] * x[i - 1] + down[i] * x[i + cols] +
@@ -149,7 +156,7 @@ void v_cycle(std::vector<Level>& levels, std::size_t l) {
   const double* product = level.product.data();
   double* coarse_rhs = coarse.rhs.data();
   const int cols = level.cols;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
   for (int coarse_row = 0; coarse_row < coarse.rows; ++coarse_row) {
     double* out = coarse_rhs + std::size_t(coarse_row) * coarse.cols;
     std::fill(out, out + coarse.cols, 0.0);
@@ -163,7 +170,7 @@ void v_cycle(std::vector<Level>& levels, std::size_t l) {
   v_cycle(levels, l + 1);
   const double* correction = coarse.solution.data();
   double* solution = level.solution.data();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
   for (int r = 0; r < level.rows; ++r) {
     const double* from = correction + std::size_t(r / 2) * coarse.cols;
     double* to = solution + std::size_t(r) * cols;
@@ -176,7 +183,7 @@ void v_cycle(std::vector<Level>& levels, std::size_t l) {
 // Row sums in parallel, then their total in row order: the same bits for any thread count.
 double dot(const Level& level, const double* a, const double* b, std::vector<double>& row_sums) {
   const std::ptrdiff_t cols = level.cols;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
   for (int r = 0; r < level.rows; ++r) {
     double sum = 0.0;
     for (std::ptrdiff_t i = r * cols, end = i + cols; i < end; ++i) sum += a[i] * b[i];
@@ -247,7 +254,7 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
                                std::to_string(kMaxIterations) + " iterations");
     apply(finest, p, lp);
     const double step = rz / dot(finest, p, lp, row_sums);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 16384) if (size >= kParallelCells)
     for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(size); ++i) {
       x[i] += step * p[i];
       r[i] -= step * lp[i];
@@ -260,7 +267,7 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
     const double rz_next = dot(finest, r, z, row_sums);
     const double beta = rz_next / rz;
     rz = rz_next;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 16384) if (size >= kParallelCells)
     for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(size); ++i) p[i] = z[i] + beta * p[i];
   }
   std::copy(x, x + size, depth.begin());

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <optional>
 
 namespace shadecut {
 namespace {
@@ -18,6 +19,24 @@ TEST(Reconstruct, GraphCutRecoversSphereAndBowl) {
     const Reconstruction result = reconstruct(scene.image, light, &scene.mask, 1.0, ReconstructOptions{});
     EXPECT_LT(mean_angular_error(result.normals, scene.normals, erode_mask(scene.mask, 2)), bowl ? 5.0 : 3.0);
     EXPECT_FLOAT_EQ(result.depth(0, 0), 0.0f);  // outside the mask
+  }
+}
+
+// Every parallel loop writes its own pixels and every sum is taken in a fixed order, so the thread
+// count changes no bit of the result, for each method.
+TEST(Reconstruct, OneThreadAndTwoGiveTheSameBits) {
+  const Eigen::Vector3d light(0.7, 0.2, 1);
+  const testing::Scene scene = testing::sphere_scene(600, 0.45, light);  // parallel integration from 2^18 pixels
+  for (Method method : {Method::GraphCut, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah}) {
+    ReconstructOptions options;
+    options.method = method;
+    options.iterations = method == Method::BrooksHorn ? std::optional<int>(50) : std::nullopt;
+    options.threads = 1;
+    const Reconstruction one = reconstruct(scene.image, light, &scene.mask, 1.0, options);
+    options.threads = 2;
+    const Reconstruction two = reconstruct(scene.image, light, &scene.mask, 1.0, options);
+    EXPECT_TRUE((one.normals.xyz.array() == two.normals.xyz.array()).all()) << to_string(method);
+    EXPECT_TRUE((one.depth == two.depth).all()) << to_string(method);
   }
 }
 
