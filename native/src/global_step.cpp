@@ -80,11 +80,11 @@ std::vector<std::uint8_t> frozen_pixels(const std::vector<int>& centre, const Ma
 // The start of a fine level: the allowed label nearest the centre; the convex labelling where there
 // is no centre.
 std::vector<int> start_from_centres(const TiltEnergy& energy, const std::vector<int>& centre) {
-  std::vector<int> labelling = energy.convex_labelling();
+  std::vector<int> labelling(centre.size(), 0);
   for (std::size_t p = 0; p < labelling.size(); ++p) {
-    if (!energy.mask().data()[p] || centre[p] < 0) continue;
-    const int nearest = energy.nearest_allowed_label(int(p), energy.label_tilt(centre[p]));
-    if (nearest >= 0) labelling[p] = nearest;
+    if (!energy.mask().data()[p]) continue;
+    const int nearest = centre[p] < 0 ? -1 : energy.nearest_allowed_label(int(p), energy.label_tilt(centre[p]));
+    labelling[p] = nearest >= 0 ? nearest : energy.convex_label(int(p));
   }
   return labelling;
 }

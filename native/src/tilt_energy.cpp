@@ -192,12 +192,14 @@ double TiltEnergy::energy(const std::vector<int>& labelling) const {
 
 std::vector<int> TiltEnergy::convex_labelling() const {
   std::vector<int> labelling(std::size_t(rows_) * cols_, 0);
-  for (int p = 0; p < rows_ * cols_; ++p) {
-    if (!mask_.data()[p]) continue;
-    const float convex = convex_tilt_[std::size_t(p)];
-    labelling[std::size_t(p)] = nearest_allowed_label(p, std::isnan(convex) ? M_PI : double(convex));
-  }
+  for (int p = 0; p < rows_ * cols_; ++p)
+    if (mask_.data()[p]) labelling[std::size_t(p)] = convex_label(p);
   return labelling;
+}
+
+int TiltEnergy::convex_label(int pixel) const {
+  const float convex = convex_tilt_[std::size_t(pixel)];
+  return nearest_allowed_label(pixel, std::isnan(convex) ? M_PI : double(convex));
 }
 
 int TiltEnergy::nearest_allowed_label(int pixel, double tilt) const {

@@ -74,9 +74,11 @@ struct ReconstructOptions {
   /// within this many steps of its label at half resolution; < 0 = one level, every label.
   int coarse_to_fine_band = 1;
   /// graphcut, graphcut_two: with a band, only pixels within this many pixels of a jump of the
-  /// half-resolution labelling keep it (GlobalStepParams::band_radius); the others keep their coarse
-  /// label; < 0 = the band everywhere. 2: a coarse boundary is known to one coarse pixel, two fine ones.
-  int coarse_to_fine_radius = 2;
+  /// half-resolution labelling keep it (GlobalStepParams::band_radius; 0 = the pixels of the jump
+  /// only); the others keep their coarse label; < 0 = the band everywhere. Chosen by
+  /// scripts/tune_parameters.py --band-radius: the smallest radius within 0.1 deg of the band
+  /// everywhere on the training surfaces.
+  int coarse_to_fine_radius = 0;
   std::optional<double> tolerance;          ///< convergence tolerance (MethodDefaults::tolerance); unset = method_defaults
   std::optional<int> iterations;            ///< brooks_horn, tsai_shah sweeps; unset = method_defaults
   /// brooks_horn lambda for an object of kReferenceObjectSize pixels (the per-pixel weight is this

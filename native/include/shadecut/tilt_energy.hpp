@@ -105,6 +105,8 @@ class TiltEnergy {
   /// The Lee-Rosenfeld convex labelling: each pixel takes the allowed label nearest t + pi (pi where
   /// the tilt is undefined).
   std::vector<int> convex_labelling() const;
+  /// The convex labelling's label at one masked pixel.
+  int convex_label(int pixel) const;
 
   /// The allowed label at `pixel` nearest the tilt `tilt` (radians), -1 if none.
   int nearest_allowed_label(int pixel, double tilt) const;
