@@ -1,11 +1,18 @@
-"""Times building the add-on's result object from a reconstruction (mesh, UVs, material, link).
+"""Times building the add-on's result object from a reconstruction (mesh or displaced plane, UVs,
+material, link), at the automatic density and at density 1; with --operator, also the whole
+"Reconstruct from shading" operator on a synthetic sphere image.
 
-    blender -b --factory-startup --python-exit-code 1 -P blender_scripts/benchmark_mesh.py -- [--sizes 512,1024] [--repeat 5]
+    blender -b --factory-startup --python-exit-code 1 -P blender_scripts/benchmark_mesh.py -- \\
+        [--sizes 2048] [--repeat 3] [--max-vertices 250000] [--operator]
 
-Prints the median over the repetitions per size; the core's own time is shadecut_bench's business.
+Prints the command, the machine and the median over the repetitions; the core's own time is
+shadecut_bench's business.
 """
 
 import argparse
+import datetime
+import os
+import platform
 import statistics
 import sys
 import time
@@ -15,30 +22,101 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "addon"))
+import shadecut  # noqa: E402
 from shadecut import synthetic  # noqa: E402
+from shadecut.blender.reconstruct_operator import mesh_step  # noqa: E402
 from shadecut.blender.result import result_object  # noqa: E402
+
+LIGHT = (1.0, 0.0, 1.0)
+
+
+def cpu_model() -> str:
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.startswith("model name"):
+            return line.split(":", 1)[1].strip()
+    return platform.processor() or "unknown CPU"
+
+
+def timed(repeat: int, run, clean) -> str:
+    seconds = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        made = run()
+        seconds.append(time.perf_counter() - start)
+        clean(made)
+    return f"median {statistics.median(seconds):.2f} s over {repeat} (min {min(seconds):.2f}, max {max(seconds):.2f})"
+
+
+def remove_result(obj) -> None:
+    """Removes a result object and every datablock it brought (mesh, material, height image)."""
+    mesh, textures = obj.data, [modifier.texture for modifier in obj.modifiers]
+    bpy.data.objects.remove(obj)
+    for material in mesh.materials:
+        bpy.data.materials.remove(material)
+    bpy.data.meshes.remove(mesh)
+    for texture in textures:
+        bpy.data.images.remove(texture.image)
+        bpy.data.textures.remove(texture)
+
+
+def benchmark_result_object(size: int, repeat: int, max_vertices: int) -> None:
+    scene = synthetic.sphere(light=LIGHT, size=size, radius_fraction=0.5)
+    mask = np.ones_like(scene.mask)  # every pixel a vertex: the worst case
+    source = bpy.data.images.new("source", 4, 4)
+    for density in (0, 1):
+        step = mesh_step(mask, density, max_vertices)
+        vertices = np.count_nonzero(mask[::step, ::step])
+        for displace in (False, True):
+            def run():
+                return result_object(bpy.context, "bench", scene.depth, scene.normals, mask, source_image=source,
+                                     width=2.0, depth_scale=1.0, density=step, displace=displace,
+                                     normal_map=False)
+
+            kind = "displaced plane" if displace else "mesh"
+            label = f"automatic (Max vertices {max_vertices:,})" if density == 0 else "1"
+            print(f"{kind} of a {size} x {size} result, density {label} = step {step}, {vertices:,} vertices: "
+                  f"{timed(repeat, run, remove_result)}", flush=True)
+    bpy.data.images.remove(source)
+
+
+def benchmark_operator(size: int, repeat: int) -> None:
+    """The operator as an artist runs it, default settings: working size, reconstruction, mesh."""
+    scene = synthetic.sphere(light=LIGHT, size=size)
+    image = bpy.data.images.new("sphere", size, size, alpha=True, float_buffer=True)
+    rgba = np.dstack([scene.image, scene.image, scene.image, scene.mask.astype(np.float32)])
+    image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1], dtype=np.float32).ravel())
+    settings = bpy.context.scene.shadecut
+    settings.image = image
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+
+    def run():
+        assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+        return bpy.context.active_object
+
+    method = shadecut.ReconstructOptions().method.name if settings.method == "DEFAULT" else settings.method
+    print(f"operator on a {size} x {size} image (method {method}, Max size {settings.max_resolution}, "
+          f"density {settings.density}, Max vertices {settings.max_vertices:,}): {timed(repeat, run, remove_result)}",
+          flush=True)
 
 
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(prog="benchmark_mesh.py")
-    parser.add_argument("--sizes", default="512,1024", help="square image sizes, comma-separated")
-    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--sizes", default="2048", help="square result sizes, comma-separated")
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--max-vertices", type=int, default=250_000, help="the automatic density's budget")
+    parser.add_argument("--operator", action="store_true", help="also time the whole operator per size")
     args = parser.parse_args(argv)
-    source = bpy.data.images.new("source", 4, 4)
+    print(f"command: blender {' '.join(sys.argv[1:])}")
+    # Another process's load slows every figure: the load average says how busy the machine was.
+    print(f"machine: nproc {len(os.sched_getaffinity(0))}, {cpu_model()}, load average "
+          f"{os.getloadavg()[0]:.1f}, Blender {bpy.app.version_string}; "
+          f"{datetime.datetime.now().isoformat(timespec='minutes')}", flush=True)
+    if args.operator:
+        shadecut.register()
     for size in (int(value) for value in args.sizes.split(",")):
-        scene = synthetic.sphere(light=(1, 0, 1), size=size, radius_fraction=0.5)
-        mask = np.ones_like(scene.mask)  # every pixel a vertex: the worst case
-        seconds = []
-        for _ in range(args.repeat):
-            start = time.perf_counter()
-            obj = result_object(bpy.context, "bench", scene.depth, scene.normals, mask, source_image=source,
-                                width=2.0, depth_scale=1.0, density=1, displace=False, normal_map=False)
-            seconds.append(time.perf_counter() - start)
-            mesh = obj.data
-            bpy.data.objects.remove(obj)
-            bpy.data.meshes.remove(mesh)
-        print(f"result object {size} x {size} ({size * size} vertices): median {statistics.median(seconds):.3f} s "
-              f"over {args.repeat} (min {min(seconds):.3f}, max {max(seconds):.3f})")
+        benchmark_result_object(size, args.repeat, args.max_vertices)
+        if args.operator:
+            benchmark_operator(size, args.repeat)
     return 0
 
 

@@ -11,6 +11,7 @@ from mathutils import Euler, Vector
 import shadecut
 from shadecut import synthetic
 from shadecut.blender import frames, reconstruct_operator
+from shadecut.blender.mesh import vertex_step
 
 LIGHT = (1.0, 0.0, 1.0)
 
@@ -122,6 +123,70 @@ def test_density_samples_every_nth_pixel(addon, sphere_png):
     settings.density = 3
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
     assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(truth.mask[::3, ::3])
+
+    settings.density, settings.max_vertices = 1, 1000  # a forced density ignores the budget
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(truth.mask)
+
+
+def test_automatic_density_is_the_finest_within_the_budget(addon, sphere_png):
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    assert settings.density == 0 and np.count_nonzero(truth.mask) <= settings.max_vertices
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(truth.mask)
+
+    settings.max_vertices = 1000  # the sphere has 5860 masked pixels
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    vertices = len(bpy.context.active_object.data.vertices)
+    step = vertex_step(truth.mask, 1000)
+    assert vertices == np.count_nonzero(truth.mask[::step, ::step]) <= 1000
+    assert step > 1 and np.count_nonzero(truth.mask[::step - 1, ::step - 1]) > 1000
+
+
+def image_of(name, width, height):
+    """A new float image in Blender: a horizontal shading ramp, opaque."""
+    image = bpy.data.images.new(name, width, height, alpha=True, float_buffer=True)
+    ramp = np.broadcast_to(np.linspace(0.2, 0.9, width, dtype=np.float32), (height, width))
+    image.pixels.foreach_set(np.dstack([ramp, ramp, ramp, np.ones_like(ramp)]).ravel())
+    return image
+
+
+@pytest.mark.parametrize("width, height, working", [(600, 400, (400, 600)), (3000, 40, (20, 1500))])
+def test_default_working_size(addon, width, height, working):
+    """An image that fits in Max size (2048 px) is worked at its own size; a larger one shrinks by
+    the smallest whole factor that makes it fit."""
+    settings = bpy.context.scene.shadecut
+    settings.image = image_of("photo", width, height)
+    settings.light_source = "DIRECTION"
+    assert reconstruct_operator.prepare_job(bpy.context).image.shape == working
+
+
+def test_mesh_edges_are_those_blender_computes(addon):
+    """depth_mesh numbers the edges itself instead of asking Blender (calc_edges): the same edges,
+    each loop's edge joining its corner to the next, nothing for validate() to fix."""
+    from shadecut.blender.mesh import depth_mesh
+
+    rng = np.random.default_rng(1)
+    depth = rng.random((40, 57)).astype(np.float32)
+    mask = rng.random((40, 57)) > 0.2
+    for step in (1, 3):
+        mesh = depth_mesh("ours", depth, mask, step=step)
+        co = np.empty(3 * len(mesh.vertices), np.float32)
+        mesh.vertices.foreach_get("co", co)
+        reference = bpy.data.meshes.new("Blender's")
+        reference.from_pydata(co.reshape(-1, 3).tolist(), [], [tuple(p.vertices) for p in mesh.polygons])
+        reference.update(calc_edges=True)
+        assert sorted(map(sorted, (e.vertices for e in mesh.edges))) == sorted(
+            map(sorted, (e.vertices for e in reference.edges)))
+        for polygon in mesh.polygons:
+            corners = list(polygon.vertices)
+            for corner, loop in enumerate(polygon.loop_indices):
+                edge = mesh.edges[mesh.loops[loop].edge_index]
+                assert set(edge.vertices) == {corners[corner], corners[(corner + 1) % 4]}
+        assert not mesh.validate()
 
 
 def test_displaced_plane_matches_the_mesh_heights(addon, sphere_png):
@@ -296,6 +361,12 @@ def _error_setup(case, sphere_png, tmp_path):
         settings.density = truth.mask.shape[1]
     elif case == "density leaving no face":
         settings.density = truth.mask.shape[1] // 2
+    elif case == "max vertices leaving no face":
+        settings.image = bpy.data.images.new("band", 64, 64, alpha=True, float_buffer=True)
+        pixels = np.zeros((64, 64, 4), np.float32)
+        pixels[30:32] = 0.5, 0.5, 0.5, 1.0  # two opaque rows: any step above 1 samples one of them
+        settings.image.pixels.foreach_set(pixels.ravel())
+        settings.max_vertices = 100
     return {}
 
 
@@ -318,6 +389,8 @@ def _error_setup(case, sphere_png, tmp_path):
     ("density of the image size", "leaves no face on the 96 x 96 working image of 'sphere.png': the largest usable "
                                   "density is"),
     ("density leaving no face", "the largest usable density is"),
+    ("max vertices leaving no face", "Max vertices 100 gives density 2, which leaves no face on the 64 x 64 working "
+                                     "image of 'band': raise Max vertices, or set Density to 1 or less"),
     ("file black", "Image 'black.png' is black"),
     ("file transparent", "Image 'clear.png' is transparent everywhere"),
     ("file 1 x 1", "Image 'dot.png' is 1 x 1 pixels: at least 2 x 2 are needed"),

@@ -33,3 +33,10 @@ def test_panel_and_preferences_defaults_equal_the_bound_defaults(settings):
     assert property_of(ShadeCutPreferences, "threads").default == DEFAULTS.threads
     assert {item.identifier for item in property_of(ShadeCutPreferences, "default_method").enum_items} == set(
         shadecut.METHODS)
+
+
+def test_artist_sizes_by_default(settings):
+    """A 4-megapixel working size, and a density chosen to keep the viewport interactive."""
+    assert settings.max_resolution == 2048
+    assert settings.density == 0  # automatic
+    assert settings.max_vertices == 250_000

@@ -1,7 +1,8 @@
 """Height fields as Blender meshes, built from numpy arrays in one pass per attribute.
 
 Per-vertex Python loops and ``from_pydata`` take tens of seconds for a million vertices; writing
-flat arrays with ``foreach_set`` takes about one (README, "Blender add-on", for the measurement).
+flat arrays with ``foreach_set`` takes about one (docs/blender_addon.md, "Big images", for the
+measurement).
 """
 
 from __future__ import annotations
@@ -12,8 +13,20 @@ import numpy as np
 from ..api import height_field_mesh
 
 
+# Blender copies an index array in one block only when its items have the property's own type,
+# unsigned 32-bit; any other type is converted item by item, about ten times slower.
+INDEX = np.uint32
+
+
 class MeshError(ValueError):
     """A height field that would make an empty or broken mesh; the message says why."""
+
+
+def vertex_step(mask: np.ndarray, max_vertices: int) -> int:
+    """The smallest sampling step that leaves at most ``max_vertices`` vertices on ``mask``."""
+    height, width = mask.shape
+    return next(step for step in range(1, max(height, width) + 1)
+                if np.count_nonzero(mask[::step, ::step]) <= max_vertices)
 
 
 def grid_geometry(depth: np.ndarray, mask: np.ndarray, *, size: float, depth_scale: float, step: int):
@@ -42,6 +55,35 @@ def grid_geometry(depth: np.ndarray, mask: np.ndarray, *, size: float, depth_sca
     return co, quads, uv
 
 
+def grid_edges(quads: np.ndarray, vertex_count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The edges of a grid of quads, and each loop's edge, without Blender's generic edge search
+    (``calc_edges``), which takes seconds on millions of quads.
+
+    The quads' corners are top-left, bottom-left, bottom-right, top-right (as
+    :func:`shadecut.height_field_mesh` makes them), so every vertex starts at most one edge down and
+    one to its right: numbering those two kinds in vertex order numbers every edge once.
+
+    Returns:
+        edges: (E, 2) uint32 vertex pairs, the edges down first, then the edges to the right.
+        loop_edges: (F, 4) uint32, the edge from each corner to the next one of its quad.
+    """
+    top_left, bottom_left, bottom_right, top_right = quads.T
+    below = np.full(vertex_count, -1, np.int32)
+    below[top_left], below[top_right] = bottom_left, bottom_right
+    right = np.full(vertex_count, -1, np.int32)
+    right[top_left], right[bottom_left] = top_right, bottom_right
+    tops, lefts = np.flatnonzero(below >= 0), np.flatnonzero(right >= 0)
+    edges = np.empty((len(tops) + len(lefts), 2), INDEX)
+    edges[:len(tops), 0], edges[:len(tops), 1] = tops, below[tops]
+    edges[len(tops):, 0], edges[len(tops):, 1] = lefts, right[lefts]
+    edge_down = np.cumsum(below >= 0, dtype=np.int32) - 1
+    edge_right = np.cumsum(right >= 0, dtype=np.int32) + (len(tops) - 1)
+    loop_edges = np.empty(quads.shape, INDEX)
+    loop_edges[:, 0], loop_edges[:, 1] = edge_down[top_left], edge_right[bottom_left]
+    loop_edges[:, 2], loop_edges[:, 3] = edge_down[top_right], edge_right[top_left]
+    return edges, loop_edges
+
+
 def depth_mesh(
     name: str,
     depth: np.ndarray,
@@ -64,16 +106,21 @@ def depth_mesh(
     if not np.isfinite(co).all():
         raise MeshError("the vertices would not be finite numbers: lower the width or the depth scale")
 
+    edges, loop_edges = grid_edges(quads, len(co))
     mesh = bpy.data.meshes.new(name)
     mesh.vertices.add(len(co))
     mesh.vertices.foreach_set("co", co.ravel())
+    mesh.edges.add(len(edges))
+    mesh.edges.foreach_set("vertices", edges.ravel())
     mesh.loops.add(quads.size)
-    mesh.loops.foreach_set("vertex_index", quads.ravel())
+    mesh.loops.foreach_set("vertex_index", quads.view(INDEX).ravel())  # indices >= 0: the same bits
+    mesh.loops.foreach_set("edge_index", loop_edges.ravel())
     mesh.polygons.add(len(quads))
-    mesh.polygons.foreach_set("loop_start", np.arange(0, quads.size, 4, dtype=np.int32))
-    mesh.polygons.foreach_set("loop_total", np.full(len(quads), 4, dtype=np.int32))
+    mesh.polygons.foreach_set("loop_start", np.arange(0, quads.size, 4, dtype=INDEX))
+    mesh.polygons.foreach_set("loop_total", np.full(len(quads), 4, dtype=INDEX))
     mesh.polygons.foreach_set("use_smooth", np.ones(len(quads), dtype=bool))
-    uv_layer = mesh.uv_layers.new(name="UVMap")
-    uv_layer.data.foreach_set("uv", uv[quads.ravel()].ravel())
-    mesh.update(calc_edges=True)
+    uv_layer = mesh.uv_layers.new(name="UVMap", do_init=False)  # every UV is written next
+    # A UV pair viewed as one 8-byte item: numpy gathers those several times faster than pairs.
+    uv_layer.data.foreach_set("uv", uv.view(np.uint64).ravel()[quads.ravel()].view(np.float32))
+    mesh.update()
     return mesh

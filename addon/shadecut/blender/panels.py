@@ -45,6 +45,9 @@ def draw_reconstruct_settings(layout, settings) -> None:
     column.prop(settings, "depth_scale")
     column.prop(settings, "max_height")
     column.prop(settings, "density")
+    sub = column.column()
+    sub.active = settings.density == 0
+    sub.prop(settings, "max_vertices")
     column.prop(settings, "normal_map")
 
     layout.use_property_split = False

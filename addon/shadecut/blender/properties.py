@@ -43,9 +43,9 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         description="The shaded image; empty = the image shown in the Image Editor",
     )
     max_resolution: bpy.props.IntProperty(
-        name="Max size", default=512, min=0, soft_max=4096, subtype="PIXEL",
-        description="Downsample so that neither side exceeds this many pixels (0 = full size). graphcut takes "
-                    "about 0.7 s at 512 px and about 4 s at 1024 px on two cores",
+        name="Max size", default=2048, min=0, soft_max=4096, subtype="PIXEL",
+        description="A larger image shrinks by a whole factor until neither side exceeds this (0 = full size). "
+                    "Reconstructing a 2048 px image takes about 9 s on two cores (graphcut), 1024 px about 4 s",
     )
 
     light_source: bpy.props.EnumProperty(
@@ -123,8 +123,14 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         description="Scale the heights down so that the result is at most this high (0 = no limit)",
     )
     density: bpy.props.IntProperty(
-        name="Density", default=1, min=1, soft_max=16,
-        description="One vertex every this many pixels (1 = one per pixel)",
+        name="Density", default=0, min=0, soft_max=16,
+        description="One vertex every this many pixels; 0 = automatic, the finest within Max vertices. "
+                    "At 1, a 2048 px result has 4.2 million vertices and takes about 3 s to build",
+    )
+    max_vertices: bpy.props.IntProperty(
+        name="Max vertices", default=250_000, min=4, soft_max=4_000_000,
+        description="Vertex budget of the automatic density. 250,000 (half a million triangles) keeps Material "
+                    "Preview interactive on a modest GPU; a 2048 px result then builds in under 0.5 s",
     )
     normal_map: bpy.props.BoolProperty(
         name="Normal map", default=False, description="Also store the normals as a new image",

@@ -16,7 +16,7 @@ import numpy as np
 from .. import api, imaging
 from .frames import FrameError, light_in_camera_frame
 from .preferences import addon_preferences
-from .mesh import MeshError
+from .mesh import MeshError, vertex_step
 from .result import limited_depth_scale, result_object
 
 # Below this the image is black for the method: it needs shading to read slants from.
@@ -181,18 +181,27 @@ def _has_face(mask: np.ndarray, step: int) -> bool:
     return bool((sampled[:-1, :-1] & sampled[1:, :-1] & sampled[:-1, 1:] & sampled[1:, 1:]).any())
 
 
-def _check_density(name: str, mask: np.ndarray, density: int) -> None:
-    """A density that leaves fewer than 2 x 2 samples, or no face, would give an empty mesh."""
-    if _has_face(mask, density):
+def mesh_step(mask: np.ndarray, density: int, max_vertices: int) -> int:
+    """The result's sampling step: ``density``, or with density 0 the finest within ``max_vertices``."""
+    return density or vertex_step(mask, max_vertices)
+
+
+def _check_density(name: str, mask: np.ndarray, density: int, max_vertices: int) -> None:
+    """A step that leaves fewer than 2 x 2 samples, or no face, would give an empty mesh."""
+    step = mesh_step(mask, density, max_vertices)
+    if _has_face(mask, step):
         return
     height, width = mask.shape
-    usable = next((step for step in range(min(min(height, width) - 1, density - 1), 0, -1)
-                   if _has_face(mask, step)), 0)
+    usable = next((smaller for smaller in range(min(min(height, width) - 1, step - 1), 0, -1)
+                   if _has_face(mask, smaller)), 0)
     if usable == 0:
         raise InputError(f"Image '{name}' has no 2 x 2 block of masked pixels at its {width} x {height} working "
                          "size: there is no surface to build")
-    raise InputError(f"Density {density} leaves no face on the {width} x {height} working image of '{name}': "
-                     f"the largest usable density is {usable}")
+    if density:
+        raise InputError(f"Density {density} leaves no face on the {width} x {height} working image of '{name}': "
+                         f"the largest usable density is {usable}")
+    raise InputError(f"Max vertices {max_vertices:,} gives density {step}, which leaves no face on the {width} x "
+                     f"{height} working image of '{name}': raise Max vertices, or set Density to {usable} or less")
 
 
 def _working_size(name: str, image, mask, max_size: int):
@@ -229,7 +238,7 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
         raise InputError(f"Image '{source.name}' is transparent everywhere: its alpha leaves no pixel to reconstruct")
     if not image[mask].max() > DARK_LIMIT:
         raise InputError(f"Image '{source.name}' is black: shape from shading needs a lit, shaded surface")
-    _check_density(source.name, mask, settings.density)
+    _check_density(source.name, mask, settings.density, settings.max_vertices)
     light = _light(context, settings)
 
     preferences = addon_preferences(context)
@@ -253,7 +262,8 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
 
 def _output_settings(settings) -> dict:
     return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=settings.max_height,
-                density=settings.density, displace=settings.output == "DISPLACE", normal_map=settings.normal_map)
+                density=settings.density, max_vertices=settings.max_vertices, displace=settings.output == "DISPLACE",
+                normal_map=settings.normal_map)
 
 
 def discard_job(job: Job) -> None:
@@ -284,13 +294,14 @@ def finish_job(operator, context, job: Job) -> set[str]:
         return {"CANCELLED"}
     out = job.output or _output_settings(context.scene.shadecut)
     result = job.result
+    step = mesh_step(result.mask, out["density"], out["max_vertices"])
     try:
         obj = result_object(
             context, job.name, result.depth, result.normals, result.mask,
             source_image=job.source_image, width=out["width"],
             depth_scale=limited_depth_scale(result.depth, result.mask, out["width"], out["depth_scale"],
                                             out["max_height"]),
-            density=out["density"], displace=out["displace"], normal_map=out["normal_map"],
+            density=step, displace=out["displace"], normal_map=out["normal_map"],
         )
     except MeshError as error:
         discard_job(job)
@@ -299,7 +310,8 @@ def finish_job(operator, context, job: Job) -> set[str]:
     light = ", ".join(f"{v:.3f}" for v in result.light)
     light_kind = "estimated light" if job.light is None else "light"
     operator.report({"INFO"}, f"'{obj.name}': {job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
-                              f"{light_kind} ({light}), albedo {result.albedo:.3f}")
+                              f"{light_kind} ({light}), albedo {result.albedo:.3f}, "
+                              f"{len(obj.data.vertices):,} vertices (density {step})")
     return {"FINISHED"}
 
 
