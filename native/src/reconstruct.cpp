@@ -104,8 +104,9 @@ NormalMap brooks_horn_normals(const ImageF& image, const Mask& mask, const Light
   return std::move(solved.normals);
 }
 
-NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
-                            const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
+}  // namespace
+
+GlobalStepParams global_step_params(const ReconstructOptions& options) {
   const MethodDefaults defaults = method_defaults(options.method);
   GlobalStepParams params;
   params.energy.labels = options.labels;
@@ -119,8 +120,15 @@ NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFr
   params.band = options.coarse_to_fine_band;
   params.band_radius = options.coarse_to_fine_radius;
   params.refine = options.refine;
+  return params;
+}
+
+namespace {
+
+NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
+                            const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
   const auto solver = make_maxflow_solver(MaxFlowKind::Grid);
-  GlobalStepResult solved = global_step(image, mask, frame, albedo, params, *solver, progress);
+  GlobalStepResult solved = global_step(image, mask, frame, albedo, global_step_params(options), *solver, progress);
   for (const auto& [stage, seconds] : solved.seconds) stats.seconds[stage] = seconds;
   stats.allowed_label_fraction = solved.allowed_label_fraction;
   stats.energy_per_cycle = solved.expansion.energy_per_cycle;

@@ -3,6 +3,7 @@
 
 #include <shadecut/estimate_albedo.hpp>
 #include <shadecut/estimate_light.hpp>
+#include <shadecut/global_step.hpp>
 #include <shadecut/integrate.hpp>
 #include <shadecut/progress.hpp>
 #include <shadecut/types.hpp>
@@ -126,6 +127,10 @@ struct Reconstruction {
   ReconstructStats stats;
 };
 
+
+/// What reconstruct() hands global_step for the graph-cut methods (graphcut, graphcut_two): the
+/// options' values, method_defaults where they are unset, all of OpenMP's threads.
+GlobalStepParams global_step_params(const ReconstructOptions& options);
 
 /// Reconstructs normals and depth from one Lambertian image.
 ///
