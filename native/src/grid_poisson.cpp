@@ -36,10 +36,10 @@ struct Level {
   int rows = 0, cols = 0;
   Field right, down;         // weight of the edge to (r, c + 1), to (r + 1, c); 0 where there is none
   Field diagonal, inverse;   // sum of a cell's edge weights, its inverse (0 for a cell without edges)
-  Field solution, rhs, product;  // product: L times solution
+  Field solution, rhs;
 
   Level(int rows_, int cols_) : rows(rows_), cols(cols_) {
-    for (Field* field : {&right, &down, &diagonal, &inverse, &solution, &rhs, &product}) *field = Field(size(), cols);
+    for (Field* field : {&right, &down, &diagonal, &inverse, &solution, &rhs}) *field = Field(size(), cols);
   }
   std::size_t size() const { return std::size_t(rows) * std::size_t(cols); }
 
@@ -96,19 +96,36 @@ Level coarsen(const Level& fine) {
   return coarse;
 }
 
-// out = L x
-void apply(const Level& level, const double* x, double* out) {
+// L x at cell i of a level (one whose neighbours' weights are read through the padding).
+inline double laplacian_at(const double* right, const double* down, const double* diag, const double* x,
+                           std::ptrdiff_t i, std::ptrdiff_t cols) {
+  return diag[i] * x[i] - right[i] * x[i + 1] - right[i - 1] * x[i - 1] - down[i] * x[i + cols] -
+         down[i - cols] * x[i - cols];
+}
+
+// Sums of one value per row, added in row order: the same bits for any thread count.
+double in_row_order(const std::vector<double>& row_sums) {
+  double total = 0.0;
+  for (double sum : row_sums) total += sum;
+  return total;
+}
+
+// out = L x; returns x . out.
+double apply(const Level& level, const double* x, double* out, std::vector<double>& row_sums) {
   const double* right = level.right.data();
   const double* down = level.down.data();
   const double* diag = level.diagonal.data();
   const std::ptrdiff_t cols = level.cols;
 #pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
   for (int r = 0; r < level.rows; ++r) {
+    double sum = 0.0;
     for (std::ptrdiff_t i = r * cols, end = i + cols; i < end; ++i) {
-      out[i] = diag[i] * x[i] - right[i] * x[i + 1] - right[i - 1] * x[i - 1] - down[i] * x[i + cols] -
-               down[i - cols] * x[i - cols];
+      out[i] = laplacian_at(right, down, diag, x, i, cols);
+      sum += x[i] * out[i];
     }
+    row_sums[std::size_t(r)] = sum;
   }
+  return in_row_order(row_sums);
 }
 
 // One Gauss-Seidel half sweep over the cells with (r + c) % 2 == colour; the two colours are
@@ -150,20 +167,23 @@ void v_cycle(std::vector<Level>& levels, std::size_t l) {
   }
   relax(level, 0);
   relax(level, 1);
-  apply(level, level.solution.data(), level.product.data());
+  // The residual b - L x, summed over each 2 x 2 block: the coarse level's right-hand side.
   Level& coarse = levels[l + 1];
   const double* b = level.rhs.data();
-  const double* product = level.product.data();
+  const double* x = level.solution.data();
+  const double* right = level.right.data();
+  const double* down = level.down.data();
+  const double* diag = level.diagonal.data();
   double* coarse_rhs = coarse.rhs.data();
-  const int cols = level.cols;
+  const std::ptrdiff_t cols = level.cols;
 #pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
   for (int coarse_row = 0; coarse_row < coarse.rows; ++coarse_row) {
     double* out = coarse_rhs + std::size_t(coarse_row) * coarse.cols;
     std::fill(out, out + coarse.cols, 0.0);
     for (int r = 2 * coarse_row; r < std::min(2 * coarse_row + 2, level.rows); ++r) {
-      for (int c = 0; c < cols; ++c) {
-        const std::size_t i = std::size_t(r) * cols + c;
-        out[c / 2] += b[i] - product[i];
+      for (std::ptrdiff_t c = 0; c < cols; ++c) {
+        const std::ptrdiff_t i = r * cols + c;
+        out[c / 2] += b[i] - laplacian_at(right, down, diag, x, i, cols);
       }
     }
   }
@@ -189,9 +209,7 @@ double dot(const Level& level, const double* a, const double* b, std::vector<dou
     for (std::ptrdiff_t i = r * cols, end = i + cols; i < end; ++i) sum += a[i] * b[i];
     row_sums[std::size_t(r)] = sum;
   }
-  double total = 0.0;
-  for (double sum : row_sums) total += sum;
-  return total;
+  return in_row_order(row_sums);
 }
 
 std::vector<Level> hierarchy(const Mask& mask) {
@@ -241,6 +259,7 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
   double* p = p_field.data();
   double* lp = lp_field.data();
   const double b_norm = std::sqrt(dot(finest, r, r, row_sums));
+  const std::ptrdiff_t stride = cols;
   std::vector<double> depth(size, 0.0);
   if (b_norm == 0.0) return depth;
 
@@ -252,14 +271,18 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
     if (iteration == kMaxIterations)
       throw std::runtime_error("integrate_normals: the Poisson solve did not converge in " +
                                std::to_string(kMaxIterations) + " iterations");
-    apply(finest, p, lp);
-    const double step = rz / dot(finest, p, lp, row_sums);
-#pragma omp parallel for schedule(dynamic, 16384) if (size >= kParallelCells)
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(size); ++i) {
-      x[i] += step * p[i];
-      r[i] -= step * lp[i];
+    const double step = rz / apply(finest, p, lp, row_sums);
+#pragma omp parallel for schedule(dynamic, 16) if (size >= kParallelCells)
+    for (int row = 0; row < finest.rows; ++row) {
+      double sum = 0.0;
+      for (std::ptrdiff_t i = row * stride, end = i + stride; i < end; ++i) {
+        x[i] += step * p[i];
+        r[i] -= step * lp[i];
+        sum += r[i] * r[i];
+      }
+      row_sums[std::size_t(row)] = sum;
     }
-    const double relative = std::sqrt(dot(finest, r, r, row_sums)) / b_norm;
+    const double relative = std::sqrt(in_row_order(row_sums)) / b_norm;
     progress.report(std::clamp(std::log(std::max(relative, relative_tolerance)) / log_target, 0.0, 1.0),
                     "integration");
     if (relative <= relative_tolerance) break;
@@ -267,8 +290,9 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
     const double rz_next = dot(finest, r, z, row_sums);
     const double beta = rz_next / rz;
     rz = rz_next;
-#pragma omp parallel for schedule(dynamic, 16384) if (size >= kParallelCells)
-    for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(size); ++i) p[i] = z[i] + beta * p[i];
+#pragma omp parallel for schedule(dynamic, 16) if (size >= kParallelCells)
+    for (int row = 0; row < finest.rows; ++row)
+      for (std::ptrdiff_t i = row * stride, end = i + stride; i < end; ++i) p[i] = z[i] + beta * p[i];
   }
   std::copy(x, x + size, depth.begin());
   return depth;
