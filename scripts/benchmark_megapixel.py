@@ -34,6 +34,8 @@ def parse_arguments():
     parser.add_argument("--reference-sizes", type=int, nargs="*", default=[512, 1024],
                         help="sizes at which the reference expansion runs too (default: %(default)s; it took "
                              "586 s at 1024 px and grows about 9 times per doubling, so 2048 px takes over an hour)")
+    parser.add_argument("--reference-repetitions", type=int, default=1,
+                        help="runs of the reference expansion per size (default: %(default)s)")
     parser.add_argument("--memory-size", type=int, default=2048,
                         help="size of the default call whose peak memory is measured, alone in its process "
                              "(default: %(default)s; 0 = none)")
@@ -44,12 +46,16 @@ def alternatives(sizes):
     return "(" + "|".join(str(size) for size in sizes) + ")"
 
 
-def benchmark_command(arguments):
-    pattern = f"^BM_Megapixel/(default_call|graph_cut)/{alternatives(arguments.sizes)}/"
+def benchmark_commands(arguments):
+    """Ours, then the reference, which runs for minutes per size and so gets its own repetitions."""
+    commands = [[str(arguments.binary),
+                 f"--benchmark_filter=^BM_Megapixel/(default_call|graph_cut)/{alternatives(arguments.sizes)}/",
+                 f"--benchmark_repetitions={arguments.repetitions}", "--benchmark_format=json"]]
     if arguments.reference_sizes:
-        pattern += f"|^BM_Megapixel/reference_expansion/{alternatives(arguments.reference_sizes)}/"
-    return [str(arguments.binary), f"--benchmark_filter={pattern}",
-            f"--benchmark_repetitions={arguments.repetitions}", "--benchmark_format=json"]
+        commands.append([str(arguments.binary),
+                         f"--benchmark_filter=^BM_Megapixel/reference_expansion/{alternatives(arguments.reference_sizes)}/",
+                         f"--benchmark_repetitions={arguments.reference_repetitions}", "--benchmark_format=json"])
+    return commands
 
 
 def peak_bytes_per_pixel(arguments):
@@ -113,23 +119,25 @@ def main():
     if not arguments.binary.is_file() or not os.access(arguments.binary, os.X_OK):
         sys.exit(f"error: benchmark binary {arguments.binary} not found or not executable; build it with "
                  "-DSHADECUT_BUILD_BENCHMARKS=ON (target shadecut_bench) or pass --binary")
-    if arguments.repetitions < 1:
-        sys.exit("error: --repetitions must be at least 1")
+    if arguments.repetitions < 1 or arguments.reference_repetitions < 1:
+        sys.exit("error: --repetitions and --reference-repetitions must be at least 1")
     memory = peak_bytes_per_pixel(arguments) if arguments.memory_size else None
-    command = benchmark_command(arguments)
-    # The benchmark's own progress goes to stderr and is left on the terminal: the reference at
-    # 2048 px runs for minutes.
-    finished = subprocess.run(command, stdout=subprocess.PIPE, text=True)
-    if finished.returncode != 0:
-        sys.exit(f"error: {shlex.join(command)} exited with status {finished.returncode}")
-    medians = median_seconds(json.loads(finished.stdout))
+    medians = {}
+    commands = benchmark_commands(arguments)
+    for command in commands:
+        # The benchmark's own progress goes to stderr and is left on the terminal.
+        finished = subprocess.run(command, stdout=subprocess.PIPE, text=True)
+        if finished.returncode != 0:
+            sys.exit(f"error: {shlex.join(command)} exited with status {finished.returncode}")
+        medians.update(median_seconds(json.loads(finished.stdout)))
     if not medians:
         sys.exit("error: the benchmark reported no BM_Megapixel run; check --sizes")
     print(markdown_table(medians))
     print()
     print(f"Machine: {len(os.sched_getaffinity(0))} cores (nproc), {cpu_model()}; "
-          f"date: {datetime.datetime.now().astimezone().isoformat(timespec='seconds')}; "
-          f"median of {arguments.repetitions} run(s) of `{shlex.join(command)}`")
+          f"date: {datetime.datetime.now().astimezone().isoformat(timespec='seconds')}; medians of")
+    for command in commands:
+        print(f"- `{shlex.join(command)}`")
     if memory:
         peak, per_pixel, memory_command = memory
         print(f"Peak memory of the default call at {arguments.memory_size} px, scene included: {peak / 2**20:.0f} MiB, "

@@ -57,7 +57,16 @@ ReconstructOptions replaced(const std::vector<std::string>& names, ReconstructOp
     if (std::find(names.begin(), names.end(), name) == names.end())
       throw py::type_error("shadecut: unknown option '" + name + "'; the options are " +
                            py::str(", ").attr("join")(names).cast<std::string>());
-    copy.attr(key) = value;
+    try {
+      copy.attr(key) = value;
+    } catch (py::error_already_set& error) {
+      if (!error.matches(PyExc_TypeError)) throw;
+      // pybind11's own message names neither the option nor the value.
+      const py::object current = copy.attr(key);
+      throw py::type_error("shadecut: option '" + name + "' cannot be " + py::repr(value).cast<std::string>() + " (" +
+                           py::type::of(value).attr("__name__").cast<std::string>() + "); it is now " +
+                           py::repr(current).cast<std::string>());
+    }
   }
   return copy.cast<ReconstructOptions>();
 }

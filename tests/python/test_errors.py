@@ -69,6 +69,13 @@ def test_an_unknown_option_is_a_type_error_that_lists_the_options():
         shadecut.ReconstructOptions(lables=12)
 
 
+def test_an_option_of_the_wrong_type_names_the_option_and_the_value():
+    with pytest.raises(TypeError, match=r"option 'labels' cannot be '36' \(str\); it is now 36"):
+        shadecut.reconstruct(GOOD, LIGHT, labels="36")
+    with pytest.raises(TypeError, match=r"option 'coarse_to_fine_radius' cannot be 2.5 \(float\)"):
+        shadecut.ReconstructOptions().replace(coarse_to_fine_radius=2.5)
+
+
 def test_a_falsy_progress_answer_cancels_and_none_goes_on():
     for answer in (False, 0, "", []):
         with pytest.raises(shadecut.Cancelled):
