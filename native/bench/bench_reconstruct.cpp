@@ -81,7 +81,7 @@ void register_reconstruct_benchmarks() {
   };
   const Case cases[] = {
       {"graphcut/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}},
-      {"graphcut/poisson", Method::GraphCut, Integrator::Poisson, {256, 512}},
+      {"graphcut/poisson", Method::GraphCut, Integrator::Poisson, {256, 512, 1024}},
       {"graphcut_exact/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, -1},
       {"graphcut_band2/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, 2},
       {"graphcut_two_exact/frankot_chellappa", Method::GraphCutTwo, Integrator::FrankotChellappa, {256, 512}, -1},
