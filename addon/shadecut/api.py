@@ -146,8 +146,17 @@ def normals_from_depth(depth, mask=None) -> np.ndarray:
 
 
 def integrate(normals, mask=None, method: str = "poisson", max_slope: float = 10.0) -> np.ndarray:
-    """Depth (H, W) from camera-frame normals (H, W, 3); each mask component's minimum is 0."""
+    """Depth (H, W) from camera-frame normals (H, W, 3); each mask component's minimum is 0. A normal
+    facing away from the viewer (n_z < 0) is a ValueError: see fold_back_facing."""
     return _core.integrate(_real(normals), _mask(mask), method, max_slope)
+
+
+def fold_back_facing(normals, mask=None) -> tuple[np.ndarray, int]:
+    """A copy of the normals (H, W, 3) in which every masked one facing away from the viewer
+    (n_z < 0), which no depth map has, is the grazing normal of the same tilt; and how many there
+    were. reconstruct() does this before integrating."""
+    folded, count = _core.fold_back_facing(_real(normals), _mask(mask))
+    return folded, int(count)
 
 
 def angular_error_map(n1, n2, mask=None) -> np.ndarray:

@@ -90,6 +90,12 @@ PYBIND11_MODULE(_core, m) {
     return from_image(depth);
   });
 
+  m.def("fold_back_facing", [](const FloatArray& normals, const std::optional<BoolArray>& mask) {
+    NormalMap n = to_normals(normals);
+    const int folded = shadecut::fold_back_facing(n, mask_or_all(mask, n.rows, n.cols));
+    return py::make_tuple(from_normals(n), folded);
+  });
+
   m.def("angular_error_map", [](const FloatArray& a, const FloatArray& b, const std::optional<BoolArray>& mask) {
     const NormalMap na = to_normals(a), nb = to_normals(b);
     return from_image(shadecut::angular_error_map(na, nb, mask_or_all(mask, na.rows, na.cols)));

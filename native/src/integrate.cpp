@@ -22,7 +22,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // Below this n_z a normal is treated as grazing: its slope is the clamp value, in the direction the
-// normal tilts. This also covers normals facing away from the viewer, which a height field cannot have.
+// normal tilts.
 constexpr double kGrazingNz = 1e-6;
 
 // Relative residual at which the Poisson solve stops: the depth then matches the exact least-squares
@@ -70,6 +70,12 @@ Gradients surface_gradients(const NormalMap& normals, const Mask& mask, double m
     if (nx == 0.0 && ny == 0.0 && nz == 0.0) {
       throw InvalidArgument("integrate_normals: zero normal at pixel (" + std::to_string(i / normals.cols) + ", " +
                             std::to_string(i % normals.cols) + ") inside the mask");
+    }
+    if (nz < 0.0) {
+      throw InvalidArgument("integrate_normals: the normal at pixel (" + std::to_string(i / normals.cols) + ", " +
+                            std::to_string(i % normals.cols) + ") faces away from the viewer (n_z = " +
+                            std::to_string(nz) + "), which no depth map has; fold_back_facing turns such normals "
+                            "into grazing ones");
     }
     const double depth_axis = std::max(nz, kGrazingNz);
     gradients.p[i] = std::clamp(-nx / depth_axis, -max_slope, max_slope);
@@ -203,6 +209,21 @@ const std::vector<std::string>& integrator_names() {
 Integrator parse_integrator(const std::string& name) { return parse_enum<Integrator>(integrator_names(), name, "integrator"); }
 
 std::string to_string(Integrator integrator) { return integrator_names().at(std::size_t(integrator)); }
+
+int fold_back_facing(NormalMap& normals, const Mask& mask) {
+  if (mask.rows() != normals.rows || mask.cols() != normals.cols || normals.xyz.rows() != normals.size())
+    throw InvalidArgument("fold_back_facing: the mask and the normal map differ in size");
+  int folded = 0;
+  for (Eigen::Index i = 0; i < normals.size(); ++i) {
+    if (!mask.data()[i] || !(normals.xyz(i, 2) < 0.0f)) continue;
+    const Eigen::Vector2f tilt = normals.xyz.block<1, 2>(i, 0).transpose();
+    const float length = tilt.norm();
+    normals.xyz.row(i) = length > 0.0f ? Eigen::RowVector3f(tilt.x() / length, tilt.y() / length, 0.0f)
+                                       : Eigen::RowVector3f(0.0f, 0.0f, 1.0f);
+    ++folded;
+  }
+  return folded;
+}
 
 ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope,
                          const Progress& progress) {

@@ -230,6 +230,7 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   const double shadow_threshold = options.fill_shadows ? options.shadow_threshold : -1.0;
   const Mask unreliable = unreliable_pixels(image, mask, result.albedo, shadow_threshold, options.highlight_threshold);
   result.stats.shadow_pixels = fill_normals(result.normals, unreliable, mask, edge_is_outline(options));
+  fold_back_facing(result.normals, mask);
   result.depth = integrate_normals(result.normals, mask, options.integrator, options.max_slope,
                                    progress.range(kNormalsShare, 1.0));
   if (options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);

@@ -259,11 +259,15 @@ TEST(Integrate, PlaneKeepsItsSignsWithBothMethods) {
 }
 
 TEST(Integrate, GrazingNormalsAreClampedToMaxSlope) {
-  // Normals lying in the image plane (n_z = 0) and facing away (n_z < 0) both tilt towards -x, so the
-  // surface climbs to the right at the steepest allowed slope.
+  // Normals lying in the image plane (n_z = 0), one of them folded there from facing away (n_z < 0),
+  // all tilt towards -x, so the surface climbs to the right at the steepest allowed slope.
   NormalMap normals(1, 3);
   normals.xyz << -1.0f, 0.0f, 0.0f, -0.6f, 0.0f, -0.8f, -1.0f, 0.0f, 0.0f;
   const Mask mask = Mask::Constant(1, 3, true);
+  for (Integrator method : {Integrator::Poisson, Integrator::FrankotChellappa})
+    EXPECT_THROW(shadecut::integrate_normals(normals, mask, method, 3.0), InvalidArgument);
+  EXPECT_EQ(shadecut::fold_back_facing(normals, mask), 1);
+  EXPECT_EQ(normals.xyz.row(1), Eigen::RowVector3f(-1.0f, 0.0f, 0.0f));
   for (Integrator method : {Integrator::Poisson, Integrator::FrankotChellappa}) {
     const ImageF depth = shadecut::integrate_normals(normals, mask, method, 3.0);
     EXPECT_NEAR(depth(0, 0), 0.0f, 1e-5f) << shadecut::to_string(method);

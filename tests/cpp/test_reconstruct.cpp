@@ -40,6 +40,18 @@ TEST(Reconstruct, OneThreadAndTwoGiveTheSameBits) {
   }
 }
 
+// The methods can find slants beyond 90 degrees; what reconstruct returns is a height field's normals.
+TEST(Reconstruct, NoMethodReturnsANormalFacingAway) {
+  const Eigen::Vector3d light(-0.939, 1.867, 1);
+  const testing::Scene scene = testing::sphere_scene(96, 0.45, light);
+  for (Method method : {Method::GraphCut, Method::GraphCutTwo, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah}) {
+    ReconstructOptions options;
+    options.method = method;
+    const Reconstruction result = reconstruct(scene.image, light, &scene.mask, 1.0, options);
+    EXPECT_GE(result.normals.xyz.col(2).minCoeff(), 0.0f) << to_string(method);
+  }
+}
+
 TEST(Reconstruct, ProgressReachesOneAndCanCancel) {
   const Eigen::Vector3d light(1, 0, 1);
   const testing::Scene scene = testing::sphere_scene(48, 0.45, light);

@@ -62,6 +62,20 @@ def test_other_functions_check_their_shapes():
         shadecut.save_mesh("/tmp/x.stl", np.zeros((4, 4), np.float32))
 
 
+def test_back_facing_normals_are_refused_by_integrate_until_folded():
+    normals = np.zeros((6, 7, 3), np.float32)
+    normals[..., 2] = 1.0
+    normals[2, 3] = (-0.6, 0.0, -0.8)
+    with pytest.raises(ValueError, match=r"pixel \(2, 3\) faces away from the viewer"):
+        shadecut.integrate(normals)
+    folded, count = shadecut.fold_back_facing(normals)
+    assert count == 1
+    np.testing.assert_array_equal(folded[2, 3], (-1.0, 0.0, 0.0))
+    np.testing.assert_array_equal(np.delete(folded.reshape(-1, 3), 2 * 7 + 3, axis=0),
+                                  np.delete(normals.reshape(-1, 3), 2 * 7 + 3, axis=0))
+    assert np.isfinite(shadecut.integrate(folded)).all()
+
+
 def test_an_unknown_option_is_a_type_error_that_lists_the_options():
     with pytest.raises(TypeError, match="unknown option 'maxflow'.*data_weight"):
         shadecut.reconstruct(GOOD, LIGHT, maxflow="grid")

@@ -24,11 +24,22 @@ const std::vector<std::string>& integrator_names();
 Integrator parse_integrator(const std::string& name);
 std::string to_string(Integrator integrator);
 
+/// Turns every masked normal that faces away from the viewer (n_z < 0), which no depth map has, into
+/// the grazing normal of the same tilt: (n_x, n_y, 0) normalized; (0, 0, -1), which has no tilt,
+/// becomes (0, 0, 1). The shape-from-shading methods can produce such normals where the image's
+/// brightness allows a slant beyond 90 degrees; reconstruct() folds them before integrating.
+///
+/// @param[in,out] normals H x W unit normals.
+/// @param[in] mask        H x W; normals outside it are left alone.
+/// @return the number of normals folded.
+int fold_back_facing(NormalMap& normals, const Mask& mask);
+
 /// Integrates camera-frame normals into depth.
 ///
 /// The surface gradients are p = dz/dx = -n_x / n_z and q = dz/dy = -n_y / n_z (x right, y up, so
-/// dz/drow = -q), each clamped to [-max_slope, max_slope]. A normal with n_z <= 1e-6 (grazing, or
-/// facing away) gets the clamped slope in the direction it tilts.
+/// dz/drow = -q), each clamped to [-max_slope, max_slope]. A normal with 0 <= n_z <= 1e-6 (grazing)
+/// gets the clamped slope in the direction it tilts; one facing away (n_z < 0) is an error
+/// (fold_back_facing turns it into a grazing one).
 ///
 /// Poisson minimises, over every pair (a, b) of 4-neighbours both in the mask, (z_b - z_a - g_ab)^2
 /// with g_ab the mean of the two pixels' gradients along that edge, one independent surface per
@@ -45,7 +56,7 @@ std::string to_string(Integrator integrator);
 ///         the mask is shifted so that its minimum is 0 (both methods; a one-pixel component is 0);
 ///         pixels outside the mask are 0. An empty mask gives all zeros.
 /// @throws InvalidArgument for an empty normal map, a mask or vector count that does not match it,
-///         a bad max_slope, or a non-finite normal inside the mask.
+///         a bad max_slope, or a non-finite, zero or back-facing normal inside the mask.
 ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope = 10.0,
                          const Progress& progress = {});
 
