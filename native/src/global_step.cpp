@@ -55,25 +55,21 @@ std::vector<std::uint8_t> frozen_pixels(const std::vector<int>& centre, const Ma
       if (centre[a] < 0) near_jump[a] = 1;
     }
   }
-  // Dilation by a (2 radius + 1)^2 square, separably: rows, then columns; a target is covered when
-  // the last jump seen, `radius` cells ahead of it, lies within 2 radius.
+  // Dilation by a (2 radius + 1)^2 square, separably: rows, then columns. Along a line, a target
+  // is covered when the last jump seen, `radius` cells ahead of it, lies within 2 radius.
+  auto dilate_line = [radius](const std::uint8_t* in, std::uint8_t* out, int length, std::size_t stride,
+                              std::uint8_t covered) {
+    int last = -radius - 1;
+    for (int i = 0; i < length + radius; ++i) {
+      if (i < length && in[std::size_t(i) * stride]) last = i;
+      const int target = i - radius;
+      if (target >= 0 && i - last <= 2 * radius) out[std::size_t(target) * stride] = covered;
+    }
+  };
   std::vector<std::uint8_t> across(centre.size(), 0), frozen(centre.size(), 1);
-  for (int r = 0; r < rows; ++r) {
-    int last = -radius - 1;
-    for (int c = 0; c < cols + radius; ++c) {
-      if (c < cols && near_jump[std::size_t(r) * cols + c]) last = c;
-      const int target = c - radius;
-      if (target >= 0 && c - last <= 2 * radius) across[std::size_t(r) * cols + target] = 1;
-    }
-  }
-  for (int c = 0; c < cols; ++c) {
-    int last = -radius - 1;
-    for (int r = 0; r < rows + radius; ++r) {
-      if (r < rows && across[std::size_t(r) * cols + c]) last = r;
-      const int target = r - radius;
-      if (target >= 0 && r - last <= 2 * radius) frozen[std::size_t(target) * cols + c] = 0;
-    }
-  }
+  for (int r = 0; r < rows; ++r)
+    dilate_line(&near_jump[std::size_t(r) * cols], &across[std::size_t(r) * cols], cols, 1, 1);
+  for (int c = 0; c < cols; ++c) dilate_line(&across[std::size_t(c)], &frozen[std::size_t(c)], rows, std::size_t(cols), 0);
   return frozen;
 }
 

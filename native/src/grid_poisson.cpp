@@ -96,12 +96,20 @@ Level coarsen(const Level& fine) {
   return coarse;
 }
 
-// L x at cell i of a level (one whose neighbours' weights are read through the padding).
-inline double laplacian_at(const double* right, const double* down, const double* diag, const double* x,
-                           std::ptrdiff_t i, std::ptrdiff_t cols) {
-  return diag[i] * x[i] - right[i] * x[i + 1] - right[i - 1] * x[i - 1] - down[i] * x[i + cols] -
-         down[i - cols] * x[i - cols];
-}
+// A level's weights as seen from one cell: its neighbours are read through the padding.
+struct Stencil {
+  const double* right;
+  const double* down;
+  const double* diagonal;
+  std::ptrdiff_t cols;
+
+  explicit Stencil(const Level& level)
+      : right(level.right.data()), down(level.down.data()), diagonal(level.diagonal.data()), cols(level.cols) {}
+  double neighbours(const double* x, std::ptrdiff_t i) const {
+    return right[i] * x[i + 1] + right[i - 1] * x[i - 1] + down[i] * x[i + cols] + down[i - cols] * x[i - cols];
+  }
+  double laplacian(const double* x, std::ptrdiff_t i) const { return diagonal[i] * x[i] - neighbours(x, i); }
+};
 
 // Sums of one value per row, added in row order: the same bits for any thread count.
 double in_row_order(const std::vector<double>& row_sums) {
@@ -112,15 +120,13 @@ double in_row_order(const std::vector<double>& row_sums) {
 
 // out = L x; returns x . out.
 double apply(const Level& level, const double* x, double* out, std::vector<double>& row_sums) {
-  const double* right = level.right.data();
-  const double* down = level.down.data();
-  const double* diag = level.diagonal.data();
+  const Stencil stencil(level);
   const std::ptrdiff_t cols = level.cols;
 #pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
   for (int r = 0; r < level.rows; ++r) {
     double sum = 0.0;
     for (std::ptrdiff_t i = r * cols, end = i + cols; i < end; ++i) {
-      out[i] = laplacian_at(right, down, diag, x, i, cols);
+      out[i] = stencil.laplacian(x, i);
       sum += x[i] * out[i];
     }
     row_sums[std::size_t(r)] = sum;
@@ -131,8 +137,7 @@ double apply(const Level& level, const double* x, double* out, std::vector<doubl
 // One Gauss-Seidel half sweep over the cells with (r + c) % 2 == colour; the two colours are
 // independent, so rows run in parallel and the result does not depend on the thread count.
 void relax(Level& level, int colour) {
-  const double* right = level.right.data();
-  const double* down = level.down.data();
+  const Stencil stencil(level);
   const double* inverse = level.inverse.data();
   const double* rhs = level.rhs.data();
   double* x = level.solution.data();
@@ -140,8 +145,7 @@ void relax(Level& level, int colour) {
 #pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
   for (int r = 0; r < level.rows; ++r) {
     for (std::ptrdiff_t i = r * cols + (r + colour) % 2, end = (r + 1) * cols; i < end; i += 2) {
-      x[i] = inverse[i] * (rhs[i] + right[i] * x[i + 1] + right[i - 1] * x[i - 1] + down[i] * x[i + cols] +
-                           down[i - cols] * x[i - cols]);
+      x[i] = inverse[i] * (rhs[i] + stencil.neighbours(x, i));
     }
   }
 }
@@ -171,9 +175,7 @@ void v_cycle(std::vector<Level>& levels, std::size_t l) {
   Level& coarse = levels[l + 1];
   const double* b = level.rhs.data();
   const double* x = level.solution.data();
-  const double* right = level.right.data();
-  const double* down = level.down.data();
-  const double* diag = level.diagonal.data();
+  const Stencil stencil(level);
   double* coarse_rhs = coarse.rhs.data();
   const std::ptrdiff_t cols = level.cols;
 #pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
@@ -183,7 +185,7 @@ void v_cycle(std::vector<Level>& levels, std::size_t l) {
     for (int r = 2 * coarse_row; r < std::min(2 * coarse_row + 2, level.rows); ++r) {
       for (std::ptrdiff_t c = 0; c < cols; ++c) {
         const std::ptrdiff_t i = r * cols + c;
-        out[c / 2] += b[i] - laplacian_at(right, down, diag, x, i, cols);
+        out[c / 2] += b[i] - stencil.laplacian(x, i);
       }
     }
   }

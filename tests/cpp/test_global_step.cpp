@@ -22,19 +22,26 @@ int circular_steps(int a, int b, int labels) {
   return std::min(d, labels - d);
 }
 
+// A sphere under (1, 0, 1) with its local shape: the energies of the band tests are built from it.
+struct BandScene {
+  testing::Scene scene = testing::sphere_scene(64, 0.45, Eigen::Vector3d(1, 0, 1));
+  LightFrame frame = LightFrame::from_direction(Eigen::Vector3d(1, 0, 1));
+  LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, 1.0);
+
+  TiltEnergy energy(const TiltEnergyParams& params) const { return TiltEnergy(local, frame, scene.mask, params); }
+};
+
 TEST(GlobalStep, BandKeepsOnlyLabelsNearTheCentreUnlessNoneIsAllowed) {
-  const Eigen::Vector3d light(1, 0, 1);
-  const testing::Scene scene = testing::sphere_scene(64, 0.45, light);
-  const LightFrame frame = LightFrame::from_direction(light);
-  const LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, 1.0);
+  const BandScene band;
+  const testing::Scene& scene = band.scene;
   TiltEnergyParams params;
-  const TiltEnergy full(local, frame, scene.mask, params);
+  const TiltEnergy full = band.energy(params);
   const int n = int(scene.mask.size()), labels = params.labels;
   std::vector<int> centre(std::size_t(n), -1);
   for (int p = 0; p < n; ++p) centre[std::size_t(p)] = p % 3 == 0 ? -1 : p % labels;
   params.band_centre = &centre;
   params.band = 2;
-  const TiltEnergy banded(local, frame, scene.mask, params);
+  const TiltEnergy banded = band.energy(params);
   int kept_all = 0;
   for (int p = 0; p < n; ++p) {
     if (!scene.mask.data()[p]) continue;
@@ -58,12 +65,10 @@ TEST(GlobalStep, BandKeepsOnlyLabelsNearTheCentreUnlessNoneIsAllowed) {
 }
 
 TEST(GlobalStep, FrozenPixelsKeepOnlyTheirCentreWhereItIsAllowed) {
-  const Eigen::Vector3d light(1, 0, 1);
-  const testing::Scene scene = testing::sphere_scene(64, 0.45, light);
-  const LightFrame frame = LightFrame::from_direction(light);
-  const LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, 1.0);
+  const BandScene band;
+  const testing::Scene& scene = band.scene;
   TiltEnergyParams params;
-  const TiltEnergy full(local, frame, scene.mask, params);
+  const TiltEnergy full = band.energy(params);
   const int n = int(scene.mask.size()), labels = params.labels;
   std::vector<int> centre(std::size_t(n), 0);
   std::vector<std::uint8_t> frozen(std::size_t(n), 0);
@@ -71,7 +76,7 @@ TEST(GlobalStep, FrozenPixelsKeepOnlyTheirCentreWhereItIsAllowed) {
   params.band_centre = &centre;
   params.band = 1;
   params.band_frozen = &frozen;
-  const TiltEnergy banded(local, frame, scene.mask, params);
+  const TiltEnergy banded = band.energy(params);
   int single = 0;
   for (int p = 0; p < n; ++p) {
     if (!scene.mask.data()[p] || !frozen[std::size_t(p)]) continue;
