@@ -1,6 +1,6 @@
 """Times building the add-on's result object from a reconstruction (mesh or displaced plane, UVs,
 material, link), at the automatic density and at density 1; with --operator, also the whole
-"Reconstruct from shading" operator on a synthetic sphere image.
+"Reconstruct" operator on a synthetic sphere image.
 
     blender -b --factory-startup --python-exit-code 1 -P blender_scripts/benchmark_mesh.py -- \\
         [--sizes 2048] [--repeat 3] [--max-vertices 250000] [--operator]

@@ -60,7 +60,7 @@ def test_reconstruct_builds_the_core_surface(addon, sphere_png):
     before = pixels_of(image)
     settings = bpy.context.scene.shadecut
     settings.image = image
-    settings.light_object = add_sun(LIGHT)
+    settings.light_source, settings.light_object = "OBJECT", add_sun(LIGHT)
     settings.width, settings.depth_scale = 3.0, 1.5
     objects_before = set(bpy.data.objects)
 
@@ -260,9 +260,9 @@ def test_sun_direction_in_a_camera_frame(addon, camera_rotation):
     np.testing.assert_allclose(frames.light_in_camera_frame(sun, camera), expected, atol=1e-6)
 
     settings = bpy.context.scene.shadecut
-    settings.light_object, settings.frame = sun, "CAMERA"
+    settings.light_source, settings.light_object, settings.frame = "OBJECT", sun, "CAMERA"
     bpy.context.scene.camera = camera
-    light = reconstruct_operator._light(bpy.context, settings)
+    light, _ = reconstruct_operator._light(bpy.context, settings)
     if expected[2] > 0:
         np.testing.assert_allclose(light, expected, atol=1e-6)
 
@@ -389,8 +389,8 @@ def _error_setup(case, sphere_png, tmp_path):
     ("density of the image size", "leaves no face on the 96 x 96 working image of 'sphere.png': the largest usable "
                                   "density is"),
     ("density leaving no face", "the largest usable density is"),
-    ("max vertices leaving no face", "Max vertices 100 gives density 2, which leaves no face on the 64 x 64 working "
-                                     "image of 'band': raise Max vertices, or set Density to 1 or less"),
+    ("max vertices leaving no face", "Vertex limit 100 gives density 2, which leaves no face on the 64 x 64 working "
+                                     "image of 'band': raise the Vertex limit, or set Density to 1 or less"),
     ("file black", "Image 'black.png' is black"),
     ("file transparent", "Image 'clear.png' is transparent everywhere"),
     ("file 1 x 1", "Image 'dot.png' is 1 x 1 pixels: at least 2 x 2 are needed"),
@@ -519,7 +519,7 @@ def test_estimated_light_reconstructs_the_sphere(addon, sphere_png):
 
 
 def test_a_blender_render_reconstructs_in_two_clicks(addon, tmp_path):
-    """Render Lambertian test image, then Reconstruct from shading: a Cycles-rendered sphere."""
+    """Render Lambertian test image, then Reconstruct: a Cycles-rendered sphere."""
     bpy.ops.mesh.primitive_uv_sphere_add(segments=128, ring_count=64)
     bpy.ops.object.shade_smooth()
     sphere = bpy.context.active_object

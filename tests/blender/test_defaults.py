@@ -40,3 +40,9 @@ def test_artist_sizes_by_default(settings):
     assert settings.max_resolution == 2048
     assert settings.density == 0  # automatic
     assert settings.max_vertices == 250_000
+
+
+def test_the_first_click_needs_nothing_from_the_scene(settings):
+    """Add-on defaults: the light is estimated (the factory scene has no Sun) and the subject is an object."""
+    assert settings.light_source == "ESTIMATE"
+    assert settings.light_object is None

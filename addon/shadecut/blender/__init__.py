@@ -9,14 +9,15 @@ from :data:`CLASSES` below.
 
 import bpy
 
-from .panels import SHADECUT_PT_reconstruct_image, SHADECUT_PT_reconstruct_view3d, SHADECUT_PT_render_view3d
+from .panels import (SHADECUT_PT_advanced_image, SHADECUT_PT_advanced_view3d, SHADECUT_PT_reconstruct_image,
+                     SHADECUT_PT_reconstruct_view3d, SHADECUT_PT_render_view3d)
 from .preferences import ShadeCutPreferences
 from .properties import ShadeCutReconstructSettings, ShadeCutRenderSettings
 from .reconstruct_operator import SHADECUT_OT_reconstruct
 from .render_operator import SHADECUT_OT_render_lambertian
 
 # In registration order: the PropertyGroups before the pointers to them, the operators before the
-# panels that show their buttons.
+# panels that show their buttons, a parent panel before its sub-panel.
 CLASSES = (
     ShadeCutPreferences,
     ShadeCutReconstructSettings,
@@ -25,6 +26,8 @@ CLASSES = (
     SHADECUT_OT_render_lambertian,
     SHADECUT_PT_reconstruct_view3d,
     SHADECUT_PT_reconstruct_image,
+    SHADECUT_PT_advanced_view3d,
+    SHADECUT_PT_advanced_image,
     SHADECUT_PT_render_view3d,
 )
 

@@ -9,16 +9,17 @@ from .render_operator import SHADECUT_OT_render_lambertian
 
 
 def draw_reconstruct_settings(layout, settings) -> None:
-    """Draws the reconstruction settings and the buttons into a panel's layout."""
+    """Draws the artist's settings and the buttons into a panel's layout."""
     layout.use_property_split = True
     layout.use_property_decorate = False
 
     column = layout.column()
+    column.row().prop(settings, "scene", expand=True)
     column.prop(settings, "image")
     column.prop(settings, "max_resolution")
 
     column = layout.column(heading="Light")
-    column.prop(settings, "light_source", expand=True)
+    column.prop(settings, "light_source")
     if settings.light_source == "OBJECT":
         column.prop(settings, "light_object")
         column.prop(settings, "frame")
@@ -26,18 +27,6 @@ def draw_reconstruct_settings(layout, settings) -> None:
             column.prop(settings, "camera")
     elif settings.light_source == "DIRECTION":
         column.prop(settings, "light_direction")
-
-    column = layout.column()
-    column.prop(settings, "scene")
-    column.prop(settings, "method")
-    column.prop(settings, "labels")
-    column.prop(settings, "data_weight")
-    column.prop(settings, "integrator")
-    row = column.row(heading="Albedo")
-    row.prop(settings, "auto_albedo", text="Auto")
-    sub = row.row()
-    sub.active = not settings.auto_albedo
-    sub.prop(settings, "albedo", text="")
 
     column = layout.column()
     column.prop(settings, "output")
@@ -56,6 +45,23 @@ def draw_reconstruct_settings(layout, settings) -> None:
     row.operator(SHADECUT_OT_reconstruct.bl_idname, icon="MOD_DISPLACE")
     browse = row.operator(SHADECUT_OT_reconstruct.bl_idname, text="", icon="FILEBROWSER")
     browse.use_file_browser = True
+
+
+def draw_advanced_settings(layout, settings) -> None:
+    """Draws the method's own parameters, which the defaults cover for most images."""
+    layout.use_property_split = True
+    layout.use_property_decorate = False
+    column = layout.column()
+    column.prop(settings, "method")
+    column.prop(settings, "labels")
+    column.prop(settings, "data_weight")
+    column.prop(settings, "integrator")
+    row = column.row(heading="Albedo")
+    row.active = settings.light_source != "ESTIMATE"  # Estimate finds the albedo with the light
+    row.prop(settings, "auto_albedo", text="Auto")
+    sub = row.row()
+    sub.active = not settings.auto_albedo
+    sub.prop(settings, "albedo", text="")
 
 
 def draw_render_settings(layout, settings) -> None:
@@ -83,7 +89,7 @@ def draw_render_settings(layout, settings) -> None:
 
 
 class ReconstructPanel:
-    bl_label = "Reconstruct from shading"
+    bl_label = "Shape from Shading"
     bl_region_type = "UI"
     bl_category = "ShadeCut"
 
@@ -97,6 +103,28 @@ class SHADECUT_PT_reconstruct_view3d(ReconstructPanel, bpy.types.Panel):
 
 class SHADECUT_PT_reconstruct_image(ReconstructPanel, bpy.types.Panel):
     bl_space_type = "IMAGE_EDITOR"
+
+
+class AdvancedPanel:
+    """The research settings, folded away: an artist seldom needs them."""
+
+    bl_label = "Advanced"
+    bl_region_type = "UI"
+    bl_category = "ShadeCut"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        draw_advanced_settings(self.layout, context.scene.shadecut)
+
+
+class SHADECUT_PT_advanced_view3d(AdvancedPanel, bpy.types.Panel):
+    bl_space_type = "VIEW_3D"
+    bl_parent_id = SHADECUT_PT_reconstruct_view3d.__name__
+
+
+class SHADECUT_PT_advanced_image(AdvancedPanel, bpy.types.Panel):
+    bl_space_type = "IMAGE_EDITOR"
+    bl_parent_id = SHADECUT_PT_reconstruct_image.__name__
 
 
 class SHADECUT_PT_render_view3d(bpy.types.Panel):

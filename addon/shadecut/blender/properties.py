@@ -12,12 +12,13 @@ from .preferences import METHOD_ITEMS
 # The library's defaults, held once in C++; the panel starts from them.
 DEFAULTS = ReconstructOptions()
 INTEGRATOR_DESCRIPTIONS = {
-    "poisson": ("Poisson", "Least squares on the mask"),
-    "frankot_chellappa": ("Frankot-Chellappa", "Fourier projection on the whole image"),
+    "poisson": ("Poisson", "Joins the slopes inside the mask only (least squares)"),
+    "frankot_chellappa": ("Frankot-Chellappa", "Joins the slopes over the whole image at once (Fourier): fast, "
+                                               "but the edges wrap around"),
 }
 SCENE_DESCRIPTIONS = {
-    "object": ("Object", "An object seen whole against a background (a statue, a toy): its outline is a silhouette"),
-    "relief": ("Relief", "A surface that fills the frame (a wall, a coin, bark): it sits flat, with no ramp"),
+    "object": ("Object", "One thing seen whole against a background (a statue, a toy): its outline is the silhouette"),
+    "relief": ("Relief", "A surface that fills the frame (a wall, a coin, bark): it comes out flat, with its bumps"),
 }
 SCENE_ITEMS = tuple((name, *SCENE_DESCRIPTIONS.get(name, (name, name))) for name in SceneKind.__members__)
 INTEGRATOR_ITEMS = tuple((name, *INTEGRATOR_DESCRIPTIONS.get(name, (name, name))) for name in Integrator.__members__)
@@ -36,11 +37,19 @@ def _is_sun(_settings, ob) -> bool:
 
 
 class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
-    """Settings of the reconstruction (see reconstruct_operator.SHADECUT_OT_reconstruct)."""
+    """Settings of the reconstruction (see reconstruct_operator.SHADECUT_OT_reconstruct).
 
+    The names are short enough for the default sidebar width; the descriptions (tooltips) explain.
+    """
+
+    scene: bpy.props.EnumProperty(
+        name="Subject", items=SCENE_ITEMS, default=DEFAULTS.scene.name,
+        description="What the image shows: one object seen whole, or a relief that fills the frame",
+    )
     image: bpy.props.PointerProperty(
         name="Image", type=bpy.types.Image,
-        description="The shaded image; empty = the image shown in the Image Editor",
+        description="The picture to turn into a surface; empty = the image open in the Image Editor. "
+                    "Its transparent parts, if any, are left out",
     )
     max_resolution: bpy.props.IntProperty(
         name="Max size", default=2048, min=0, soft_max=4096, subtype="PIXEL",
@@ -48,59 +57,71 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
                     "Reconstructing a 2048 px image takes about 5 s on two cores (graphcut), 1024 px about 1.3 s",
     )
 
+    # Estimate comes first and is the default: it needs nothing from the scene, so the first
+    # click succeeds with any image.
     light_source: bpy.props.EnumProperty(
         name="Light",
         items=(
-            ("OBJECT", "Sun", "The direction of a Sun light in the scene"),
-            ("DIRECTION", "Direction", "A direction typed in the image's camera frame (x right, y up, z toward the viewer)"),
-            ("ESTIMATE", "Estimate", "Estimate the light (and the albedo) from the image"),
+            ("ESTIMATE", "Estimate", "Work out the light's direction, and the surface's brightness, from the image"),
+            ("OBJECT", "Sun", "Use a Sun lamp of the scene that lights the image as the light did"),
+            ("DIRECTION", "Direction", "Type the direction toward the light as seen in the image: "
+                                       "x right, y up, z toward you"),
         ),
-        default="OBJECT",
+        default="ESTIMATE",
+        description="Where the light that shaded the image came from",
     )
     light_object: bpy.props.PointerProperty(
-        name="Sun", type=bpy.types.Object, poll=_is_light, description="A Sun light: it shines along its local -Z",
+        name="Sun", type=bpy.types.Object, poll=_is_light,
+        description="The Sun lamp (it shines along its local -Z); empty = the scene's only Sun",
     )
     light_direction: bpy.props.FloatVectorProperty(
         name="Direction", size=3, default=(1.0, 0.0, 1.0), subtype="XYZ",
-        description="Toward the light, in the camera frame: x right, y up, z toward the viewer",
+        description="Toward the light, as seen in the image: x right, y up, z toward you",
     )
     frame: bpy.props.EnumProperty(
-        name="Frame",
+        name="Seen from",
         items=(
-            ("IMAGE_PLANE", "Image plane", "The image lies in the world XY plane, seen from +Z"),
-            ("CAMERA", "Camera", "The image was taken by a camera: the chosen one, or else the scene's"),
+            ("IMAGE_PLANE", "Top view", "The image is the ground seen from above (Top view): "
+                                        "the Sun lights it as it lights the floor"),
+            ("CAMERA", "Camera", "The image is what a camera sees: the chosen one, or else the scene's"),
         ),
         default="IMAGE_PLANE",
-        description="The frame in which the Sun's direction is read",
+        description="Where the image was seen from, to read the Sun's direction in it",
     )
     camera: bpy.props.PointerProperty(
-        name="Camera", type=bpy.types.Object, poll=_is_camera, description="Empty = the scene's camera",
+        name="Camera", type=bpy.types.Object, poll=_is_camera,
+        description="The camera that saw the image; empty = the scene's camera",
     )
 
-    scene: bpy.props.EnumProperty(
-        name="Scene", items=SCENE_ITEMS, default=DEFAULTS.scene.name,
-        description="What the image shows: an object seen whole, or a relief that fills the frame",
-    )
     method: bpy.props.EnumProperty(
         name="Method",
-        items=(("DEFAULT", "Default", "The default method of the add-on's preferences"), *METHOD_ITEMS),
+        items=(("DEFAULT", "Default", "The method chosen in the add-on's preferences"), *METHOD_ITEMS),
         default="DEFAULT",
+        description="The shape-from-shading algorithm",
     )
     labels: bpy.props.IntProperty(
-        name="Labels", default=DEFAULTS.labels, min=MIN_LABELS, max=360, description="Number of discrete tilts (graph-cut methods)",
+        name="Tilt steps", default=DEFAULTS.labels, min=MIN_LABELS, max=360,
+        description="How many slope directions the graph cut chooses among (its labels): "
+                    "more is finer and slower",
     )
     data_weight: bpy.props.FloatProperty(
-        name="Data weight", default=DEFAULTS.data_weight, min=0.0, soft_max=5.0, description="Lambda of the paper's eq. (15)",
+        name="Image trust", default=DEFAULTS.data_weight, min=0.0, soft_max=5.0,
+        description="How closely the surface follows the image's shading rather than staying smooth "
+                    "(the graph cut's data weight): higher keeps more detail, and more noise",
     )
     integrator: bpy.props.EnumProperty(
-        name="Integrator",
-        items=INTEGRATOR_ITEMS,
-        default=DEFAULTS.integrator.name,
+        name="Solver", items=INTEGRATOR_ITEMS, default=DEFAULTS.integrator.name,
+        description="How the slopes are joined into heights (the integrator)",
     )
     auto_albedo: bpy.props.BoolProperty(
-        name="Auto albedo", default=True, description="Take the albedo from the brightest part of the image",
+        name="Auto albedo", default=True,
+        description="Work out the surface's brightness (albedo) from the image; off = the value beside",
     )
-    albedo: bpy.props.FloatProperty(name="Albedo", default=1.0, min=1e-3, soft_max=1.0)
+    albedo: bpy.props.FloatProperty(
+        name="Albedo", default=1.0, min=1e-3, soft_max=1.0,
+        description="The image's brightness where the surface faces the light squarely (1 = white). "
+                    "Estimate works it out itself",
+    )
 
     output: bpy.props.EnumProperty(
         name="Output",
@@ -109,14 +130,15 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
             ("DISPLACE", "Displaced plane", "A flat grid with a Displace modifier and a height image (light preview)"),
         ),
         default="MESH",
+        description="What to build: real geometry, or a flat grid pushed up by a modifier",
     )
     width: bpy.props.FloatProperty(
         name="Width", default=2.0, min=1e-4, soft_max=100.0, unit="LENGTH",
-        description="Width of the result in scene units",
+        description="Width of the result in scene units; its heights follow in proportion",
     )
     depth_scale: bpy.props.FloatProperty(
         name="Depth scale", default=1.0, soft_min=0.0, soft_max=10.0,
-        description="Multiplies the reconstructed heights (1 = true proportions)",
+        description="Multiplies the heights: 1 = true proportions, 0.5 = half as deep",
     )
     max_height: bpy.props.FloatProperty(
         name="Max height", default=0.0, min=0.0, soft_max=10.0, unit="LENGTH",
@@ -124,16 +146,17 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     )
     density: bpy.props.IntProperty(
         name="Density", default=0, min=0, soft_max=16,
-        description="One vertex every this many pixels; 0 = automatic, the finest within Max vertices. "
+        description="One vertex every this many pixels; 0 = automatic, the finest within the Vertex limit. "
                     "At 1, a 2048 px result has 4.2 million vertices and takes about 2.4 s to build",
     )
     max_vertices: bpy.props.IntProperty(
-        name="Max vertices", default=250_000, min=4, soft_max=4_000_000,
+        name="Vertex limit", default=250_000, min=4, soft_max=4_000_000,
         description="Vertex budget of the automatic density. 250,000 (half a million triangles) keeps Material "
                     "Preview interactive on a modest GPU; a 2048 px result then builds in under 0.5 s",
     )
     normal_map: bpy.props.BoolProperty(
-        name="Normal map", default=False, description="Also store the normals as a new image",
+        name="Normal map", default=False,
+        description="Also store the surface's normals as a new image, '<result> normals'",
     )
 
 
@@ -145,6 +168,7 @@ class ShadeCutRenderSettings(bpy.types.PropertyGroup):
         items=(("SELECTED", "Selected", "The selected mesh objects"),
                ("VISIBLE", "Visible", "Every mesh visible in the view layer")),
         default="SELECTED",
+        description="Which meshes to render",
     )
     light_source: bpy.props.EnumProperty(
         name="Light",
@@ -152,27 +176,34 @@ class ShadeCutRenderSettings(bpy.types.PropertyGroup):
                                           "z toward the viewer)"),
                ("SUN", "Sun", "The direction of a Sun light of the scene")),
         default="DIRECTION",
+        description="Where the light comes from: a typed direction or a Sun of the scene",
     )
     light_direction: bpy.props.FloatVectorProperty(
         name="Direction", size=3, default=(1.0, 0.0, 1.0), subtype="XYZ",
         description="Toward the light, camera frame; z must be > 0",
     )
-    sun: bpy.props.PointerProperty(name="Sun", type=bpy.types.Object, poll=_is_sun)
+    sun: bpy.props.PointerProperty(name="Sun", type=bpy.types.Object, poll=_is_sun,
+                                   description="The Sun light whose direction lights the render")
     camera_source: bpy.props.EnumProperty(
         name="Camera",
         items=(("FIT", "Fitted orthographic", "An orthographic camera fitted to the objects, front view"),
                ("SCENE", "Scene camera", "The scene's active camera")),
         default="FIT",
+        description="The camera that sees the meshes",
     )
-    resolution_x: bpy.props.IntProperty(name="Width", default=256, min=2, max=16384, subtype="PIXEL")
-    resolution_y: bpy.props.IntProperty(name="Height", default=256, min=2, max=16384, subtype="PIXEL")
+    resolution_x: bpy.props.IntProperty(name="Width", default=256, min=2, max=16384, subtype="PIXEL",
+                                        description="Width of the rendered image")
+    resolution_y: bpy.props.IntProperty(name="Height", default=256, min=2, max=16384, subtype="PIXEL",
+                                        description="Height of the rendered image")
     albedo_source: bpy.props.EnumProperty(
         name="Albedo",
         items=(("UNIFORM", "Uniform", "One diffuse albedo for every object"),
                ("OWN", "Own colours", "Each material's base colour (luminance), textures included")),
         default="UNIFORM",
+        description="The surfaces' brightness (albedo): one value, or each material's own",
     )
-    albedo: bpy.props.FloatProperty(name="Albedo", default=0.8, min=0.001, max=1.0)
+    albedo: bpy.props.FloatProperty(name="Albedo", default=0.8, min=0.001, max=1.0,
+                                    description="Brightness of a surface facing the light squarely (1 = white)")
     shadows: bpy.props.BoolProperty(name="Cast shadows", default=False,
                                     description="Off: the Lambertian model of the paper, which has no shadows")
     indirect: bpy.props.BoolProperty(name="Indirect light", default=False,
@@ -189,6 +220,7 @@ class ShadeCutRenderSettings(bpy.types.PropertyGroup):
         items=(("FLOAT", "Float", "No quantization"), ("8", "8-bit", "8-bit sRGB codes"),
                ("16", "16-bit", "16-bit sRGB codes")),
         default="FLOAT",
+        description="How the image's values are stored, as a camera or a file format would",
     )
     seed: bpy.props.IntProperty(name="Seed", default=0, min=0, description="Seed of the noise")
     output_dir: bpy.props.StringProperty(

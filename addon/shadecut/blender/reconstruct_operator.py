@@ -1,4 +1,4 @@
-"""The "Reconstruct from shading" operator: a Blender image in, a new mesh object out."""
+"""The "Reconstruct" operator: a Blender image in, a new mesh object at the 3-D cursor out."""
 
 from __future__ import annotations
 
@@ -39,6 +39,7 @@ class Job:
     image: np.ndarray
     mask: np.ndarray
     light: Optional[np.ndarray]  # None = estimate from the image
+    light_origin: str  # how the finish report names the light: "estimated light", "light of Sun 'Sun'"
     albedo: Optional[float]
     options: dict
     source_image: Optional[bpy.types.Image]
@@ -136,25 +137,53 @@ def _open_image(context, settings) -> bpy.types.Image:
     raise InputError("No image: choose one in the ShadeCut panel, open one in the Image Editor, or pick a file")
 
 
-def _light(context, settings) -> Optional[np.ndarray]:
+def _scene_sun(context) -> bpy.types.Object:
+    """The scene's only Sun, which stands in for a Sun not picked in the panel."""
+    suns = [obj for obj in context.scene.objects if obj.type == "LIGHT" and obj.data.type == "SUN"]
+    if len(suns) == 1:
+        return suns[0]
+    if not suns:
+        raise InputError("No Sun picked, and the scene has none: add a Sun and aim it as the light fell on the image, "
+                         "or set Light to Estimate")
+    names = ", ".join(f"'{sun.name}'" for sun in suns)
+    raise InputError(f"No Sun picked, and the scene has {len(suns)} ({names}): pick one in the ShadeCut panel, "
+                     "or set Light to Estimate")
+
+
+def _sun(context, settings) -> tuple[bpy.types.Object, str]:
+    """The Sun to read the light from, and how the finish report names its light."""
+    if settings.light_object is None:
+        sun = _scene_sun(context)
+        return sun, f"light of the scene's only Sun '{sun.name}'"
+    sun = settings.light_object
+    if sun.type == "LIGHT" and sun.data.type != "SUN":
+        raise InputError(f"Light '{sun.name}' is a {sun.data.type.lower()} light: shape from shading needs the "
+                         "parallel light of a Sun. Pick a Sun, or set Light to Estimate")
+    return sun, f"light of Sun '{sun.name}'"
+
+
+def _light(context, settings) -> tuple[Optional[np.ndarray], str]:
+    """The unit direction toward the light in the camera frame (None = estimate it), and how the
+    finish report names it."""
     if settings.light_source == "ESTIMATE":
-        return None
+        return None, "estimated light"
     if settings.light_source == "DIRECTION":
-        light = np.array(settings.light_direction, dtype=float)
+        light, origin = np.array(settings.light_direction, dtype=float), "light"
     else:
+        sun, origin = _sun(context, settings)
         context.view_layer.update()  # a script may have just moved the sun or the camera
         camera = None
         if settings.frame == "CAMERA":
             camera = settings.camera or context.scene.camera
             if camera is None:
                 raise InputError("No camera: choose one in the ShadeCut panel, add one to the scene, "
-                                 "or read the light in the image plane")
+                                 "or set Seen from to Top view")
         try:
-            light = np.array(light_in_camera_frame(settings.light_object, camera))
+            light = np.array(light_in_camera_frame(sun, camera))
         except FrameError as error:
             raise InputError(str(error)) from error
     try:
-        return api.light_direction(light)
+        return api.light_direction(light), origin
     except ValueError as error:
         raise InputError(f"The light ({light[0]:.2f}, {light[1]:.2f}, {light[2]:.2f}) cannot be used: {error}") from error
 
@@ -200,8 +229,8 @@ def _check_density(name: str, mask: np.ndarray, density: int, max_vertices: int)
     if density:
         raise InputError(f"Density {density} leaves no face on the {width} x {height} working image of '{name}': "
                          f"the largest usable density is {usable}")
-    raise InputError(f"Max vertices {max_vertices:,} gives density {step}, which leaves no face on the {width} x "
-                     f"{height} working image of '{name}': raise Max vertices, or set Density to {usable} or less")
+    raise InputError(f"Vertex limit {max_vertices:,} gives density {step}, which leaves no face on the {width} x "
+                     f"{height} working image of '{name}': raise the Vertex limit, or set Density to {usable} or less")
 
 
 def _working_size(name: str, image, mask, max_size: int):
@@ -239,7 +268,7 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
     if not image[mask].max() > DARK_LIMIT:
         raise InputError(f"Image '{source.name}' is black: shape from shading needs a lit, shaded surface")
     _check_density(source.name, mask, settings.density, settings.max_vertices)
-    light = _light(context, settings)
+    light, light_origin = _light(context, settings)
 
     preferences = addon_preferences(context)
     method = settings.method
@@ -252,6 +281,7 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
         image=image,
         mask=mask,
         light=light,
+        light_origin=light_origin,
         albedo=None if settings.auto_albedo or light is None else settings.albedo,
         options=options,
         source_image=source,
@@ -308,9 +338,8 @@ def finish_job(operator, context, job: Job) -> set[str]:
         operator.report({"ERROR"}, f"Cannot build the result: {error}")
         return {"CANCELLED"}
     light = ", ".join(f"{v:.3f}" for v in result.light)
-    light_kind = "estimated light" if job.light is None else "light"
     operator.report({"INFO"}, f"'{obj.name}': {job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
-                              f"{light_kind} ({light}), albedo {result.albedo:.3f}, "
+                              f"{job.light_origin} ({light}), albedo {result.albedo:.3f}, "
                               f"{len(obj.data.vertices):,} vertices (density {step})")
     return {"FINISHED"}
 
@@ -319,7 +348,7 @@ class SHADECUT_OT_reconstruct(bpy.types.Operator):
     """Reconstruct a 3-D surface from the shading of an image (Chang, Lee & Lee graph cuts)"""
 
     bl_idname = "shadecut.reconstruct"
-    bl_label = "Reconstruct from shading"
+    bl_label = "Reconstruct"
     bl_options = {"REGISTER", "UNDO"}
 
     filepath: bpy.props.StringProperty(

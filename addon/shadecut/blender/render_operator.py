@@ -63,7 +63,7 @@ class SHADECUT_OT_render_lambertian(bpy.types.Operator):
         mean = float(render.image[render.mask].mean()) if render.mask.any() else 0.0
         self.report({"INFO"}, f"Rendered {settings.resolution_x} x {settings.resolution_y}, mean intensity "
                               f"{mean:.3f}, into {folder}; image '{image.name}' and its light are set for "
-                              "Reconstruct from shading")
+                              "Reconstruct")
         return {"FINISHED"}
 
 

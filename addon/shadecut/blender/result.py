@@ -79,8 +79,12 @@ def result_object(
     displace: bool,
     normal_map: bool,
 ) -> bpy.types.Object:
-    """Links a new object showing depth (H, W) pixel units to the active collection and selects it.
+    """Links a new object showing depth (H, W) pixel units to the active collection, at the 3-D
+    cursor, and selects it.
 
+    The object is called ``name``, or ``name.001`` and so on when that is taken; its mesh, material
+    and images are named after the object's own name, so that a later result never takes over an
+    earlier one's datablocks.
     ``displace``: a flat grid carrying a Displace modifier and a height image instead of real heights.
     Raises MeshError (see :func:`depth_mesh`) before creating anything.
     """
@@ -90,6 +94,9 @@ def result_object(
     mesh = depth_mesh(name, np.zeros_like(depth) if displace else depth, mask,
                       size=width, depth_scale=depth_scale, step=density)
     obj = bpy.data.objects.new(name, mesh)
+    name = obj.name  # "<image>.001" when an earlier result has the image's name
+    mesh.name = name
+    obj.location = context.scene.cursor.location
     if source_image is not None:
         mesh.materials.append(_image_material(f"{name} shading", source_image))
     if displace:
