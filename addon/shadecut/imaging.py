@@ -1,8 +1,10 @@
-"""Turning pixel buffers from elsewhere (Blender's images, arrays) into the core's linear input.
+"""Turning pixel buffers from elsewhere (Blender's images, arrays) into the core's linear input,
+and results into the texture maps a material reads.
 
 No ``bpy`` here: the add-on hands over plain arrays, so all of this is tested outside Blender. The
-rules themselves (sRGB decoding, luminance, block averaging) are the core's, shared with
-``shadecut.load_image`` and the graph cut's coarse levels.
+input rules (sRGB decoding, luminance, block averaging) are the core's, shared with
+``shadecut.load_image`` and the graph cut's coarse levels; the two map encodings at the end
+(:func:`normal_colors`, :func:`unit_height`) are written here only.
 """
 
 from __future__ import annotations
@@ -57,3 +59,44 @@ def downsample(image: np.ndarray, mask: np.ndarray, max_size: int) -> tuple[np.n
     small, small_mask = _core.downsample(np.asarray(image, dtype=np.float32), np.asarray(mask, dtype=bool), factor,
                                          MASK_COVERAGE)
     return small, small_mask, factor
+
+
+# The colour of an untilted normal (0, 0, 1): where a normal map has no normal.
+FLAT_NORMAL_COLOR = (0.5, 0.5, 1.0)
+
+
+def normal_colors(normals: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:
+    """Camera-frame unit normals (H, W, 3) as a normal map's colours (H, W, 3) float32: 0.5 * n + 0.5.
+
+    Red = x (right), green = y (up), blue = z (toward the viewer), the convention of Blender's Normal
+    Map node (and OpenGL's): on a flat surface whose UVs lay the image out unrotated, the camera
+    frame is the tangent space. Pixels outside ``mask``, or without a normal (zero), are
+    :data:`FLAT_NORMAL_COLOR`, so that texture filtering at the mask's edge does not blend in a
+    zero normal.
+    """
+    normals = np.asarray(normals, dtype=np.float32)
+    valid = np.linalg.norm(normals, axis=2) > 0
+    if mask is not None:
+        valid &= np.asarray(mask, dtype=bool)
+    colors = 0.5 * normals + 0.5
+    colors[~valid] = FLAT_NORMAL_COLOR
+    return colors.astype(np.float32)
+
+
+def unit_height(depth: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """A depth map (H, W) as a height image in 0..1 with the rule to undo it.
+
+    ``depth = (height - zero) * span`` on the mask, where ``span`` = the depth's range (the span of
+    the mask's depths and 0) and ``zero`` = the image value of depth 0, which pixels outside the mask
+    hold. A displacement of ``(height - zero) * span * s`` (Blender's Displacement node with
+    Midlevel ``zero`` and Scale ``span * s``) therefore equals ``depth * s``.
+
+    Returns:
+        height (H, W) float32 in 0..1, zero, span (1 when the depth is 0 everywhere).
+    """
+    mask = np.asarray(mask, dtype=bool)
+    depth = np.where(mask, np.asarray(depth, dtype=np.float64), 0.0)
+    low, high = min(float(depth.min()), 0.0), max(float(depth.max()), 0.0)
+    span = high - low if high > low else 1.0
+    height = (depth - low) / span
+    return np.clip(height, 0.0, 1.0).astype(np.float32), -low / span, span

@@ -38,6 +38,7 @@ def draw_reconstruct_settings(layout, settings) -> None:
     sub.active = settings.density == 0
     sub.prop(settings, "max_vertices")
     column.prop(settings, "normal_map")
+    column.prop(settings, "height_map")
 
     layout.use_property_split = False
     row = layout.row(align=True)

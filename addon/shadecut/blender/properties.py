@@ -48,7 +48,8 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     )
     image: bpy.props.PointerProperty(
         name="Image", type=bpy.types.Image,
-        description="The picture to turn into a surface; empty = the image open in the Image Editor. "
+        description="The picture to turn into a surface; empty = the image open in the Image Editor, else the "
+                    "image of the selected Image Texture node of the active object's material. "
                     "Its transparent parts, if any, are left out",
     )
     max_resolution: bpy.props.IntProperty(
@@ -156,7 +157,14 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     )
     normal_map: bpy.props.BoolProperty(
         name="Normal map", default=False,
-        description="Also store the surface's normals as a new image, '<result> normals'",
+        description="Also make a tangent-space normal map of the surface, '<result> normals', wired into the "
+                    "result's material through a Normal Map node and packed into the .blend",
+    )
+    height_map: bpy.props.BoolProperty(
+        name="Height map", default=False,
+        description="Also make a height image, '<result> height' (0 to 1), wired into the result's material "
+                    "through a Displacement node whose Scale gives the result's heights in scene units; "
+                    "packed into the .blend. The Displaced plane's own height image is reused",
     )
 
 

@@ -45,6 +45,7 @@ class Job:
     source_image: Optional[bpy.types.Image]
     output: dict = field(default_factory=dict)  # how to build the result, read with the rest
     created_image: bool = False  # the source image was loaded by this job: removed if it fails
+    image_origin: str = ""  # where an image the panel did not name came from: "the Image Texture node ..."
     fraction: float = 0.0
     stage: str = "starting"
     cancel: bool = False
@@ -118,23 +119,45 @@ def _load_file(filepath: str) -> tuple[bpy.types.Image, bool]:
     return image, created
 
 
-def _source_image(context, settings, filepath: str) -> tuple[bpy.types.Image, bool]:
-    """The image to reconstruct and whether this call loaded it (see :func:`_load_file`)."""
+def _source_image(context, settings, filepath: str) -> tuple[bpy.types.Image, bool, str]:
+    """The image to reconstruct, whether this call loaded it (see :func:`_load_file`), and where it
+    came from when the panel did not name it ("" otherwise)."""
     if filepath:
-        return _load_file(filepath)
-    return _open_image(context, settings), False
+        return (*_load_file(filepath), "")
+    image, origin = _open_image(context, settings)
+    return image, False, origin
 
 
-def _open_image(context, settings) -> bpy.types.Image:
+def active_texture_node(context) -> Optional[bpy.types.Node]:
+    """The active object's active material's active node when it is an Image Texture node with an
+    image (what texture add-ons such as DeepBump act on), else None."""
+    obj = context.active_object
+    material = obj.active_material if obj is not None else None
+    if material is None or not material.use_nodes or material.node_tree is None:
+        return None
+    node = material.node_tree.nodes.active
+    if node is None or node.type != "TEX_IMAGE" or node.image is None:
+        return None
+    return node
+
+
+def _open_image(context, settings) -> tuple[bpy.types.Image, str]:
+    """The panel's image; else the image of the Image Editor the operator runs in; else the image of
+    the selected Image Texture node; else the image of any open Image Editor. With where it came from."""
     if settings.image is not None:
-        return settings.image
+        return settings.image, ""
     space = context.space_data
     if space is not None and space.type == "IMAGE_EDITOR" and space.image is not None:
-        return space.image
+        return space.image, ""
+    node = active_texture_node(context)
+    if node is not None:
+        material = context.active_object.active_material
+        return node.image, f"the Image Texture node '{node.name}' of material '{material.name}'"
     for area in context.screen.areas if context.screen else ():
         if area.type == "IMAGE_EDITOR" and area.spaces.active.image is not None:
-            return area.spaces.active.image
-    raise InputError("No image: choose one in the ShadeCut panel, open one in the Image Editor, or pick a file")
+            return area.spaces.active.image, ""
+    raise InputError("No image: choose one in the ShadeCut panel, open one in the Image Editor, select an Image "
+                     "Texture node in the active object's material, or pick a file")
 
 
 def _scene_sun(context) -> bpy.types.Object:
@@ -251,13 +274,15 @@ def prepare_job(context, filepath: str = "") -> Job:
     """
     settings = context.scene.shadecut
     _check_output(settings)
-    source, created = _source_image(context, settings, filepath)
+    source, created, origin = _source_image(context, settings, filepath)
     try:
-        return _prepare(context, settings, source, created)
+        job = _prepare(context, settings, source, created)
     except BaseException:
         if created:
             bpy.data.images.remove(source)
         raise
+    job.image_origin = origin
+    return job
 
 
 def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
@@ -293,7 +318,7 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
 def _output_settings(settings) -> dict:
     return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=settings.max_height,
                 density=settings.density, max_vertices=settings.max_vertices, displace=settings.output == "DISPLACE",
-                normal_map=settings.normal_map)
+                normal_map=settings.normal_map, height_map=settings.height_map)
 
 
 def discard_job(job: Job) -> None:
@@ -331,14 +356,15 @@ def finish_job(operator, context, job: Job) -> set[str]:
             source_image=job.source_image, width=out["width"],
             depth_scale=limited_depth_scale(result.depth, result.mask, out["width"], out["depth_scale"],
                                             out["max_height"]),
-            density=step, displace=out["displace"], normal_map=out["normal_map"],
+            density=step, displace=out["displace"], normal_map=out["normal_map"], height_map=out["height_map"],
         )
     except MeshError as error:
         discard_job(job)
         operator.report({"ERROR"}, f"Cannot build the result: {error}")
         return {"CANCELLED"}
     light = ", ".join(f"{v:.3f}" for v in result.light)
-    operator.report({"INFO"}, f"'{obj.name}': {job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
+    source = f"image '{job.source_image.name}' from {job.image_origin}, " if job.image_origin else ""
+    operator.report({"INFO"}, f"'{obj.name}': {source}{job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
                               f"{job.light_origin} ({light}), albedo {result.albedo:.3f}, "
                               f"{len(obj.data.vertices):,} vertices (density {step})")
     return {"FINISHED"}

@@ -8,7 +8,11 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
+from ..imaging import normal_colors, unit_height
 from .mesh import MeshError, depth_mesh
+
+
+UV_MAP = "UVMap"  # the result mesh's UV map (mesh.depth_mesh)
 
 
 def _float_image(name: str, rgba: np.ndarray) -> bpy.types.Image:
@@ -22,37 +26,82 @@ def _float_image(name: str, rgba: np.ndarray) -> bpy.types.Image:
 
 
 def normal_map_image(name: str, normals: np.ndarray, mask: np.ndarray) -> bpy.types.Image:
-    """The normals encoded as (n + 1) / 2 in RGB, alpha = mask (camera frame, README conventions)."""
-    rgba = np.dstack([(normals + 1.0) / 2.0, mask.astype(np.float32)])
-    return _float_image(name, rgba)
+    """The normals as a tangent-space normal map of the result's UVs (imaging.normal_colors), alpha = mask.
+
+    The result lies in its object's XY plane, image right = +X = increasing U, image up = +Y =
+    increasing V, so the camera frame is the UVs' tangent frame. Colour and alpha are independent
+    (channel packed): the colour of a masked-out pixel stays the flat normal.
+    """
+    image = _float_image(name, np.dstack([normal_colors(normals, mask), mask.astype(np.float32)]))
+    image.alpha_mode = "CHANNEL_PACKED"
+    return image
 
 
-def _image_material(name: str, image: bpy.types.Image) -> bpy.types.Material:
+def height_image(name: str, height: np.ndarray) -> bpy.types.Image:
+    """A 0..1 height image (H, W) (imaging.unit_height) as a grey float image, alpha 1."""
+    return _float_image(name, np.dstack([height, height, height, np.ones_like(height)]))
+
+
+def _texture_node(nodes, image: bpy.types.Image, location) -> bpy.types.Node:
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    texture.extension = "EXTEND"  # the UVs reach the image's edge pixels' centres: never wrap around
+    texture.location = location
+    return texture
+
+
+def _result_material(name: str, source_image: bpy.types.Image | None, normal_image: bpy.types.Image | None,
+                     height: tuple[bpy.types.Image, float, float] | None) -> bpy.types.Material:
+    """The result's material: the source image as Base Color; the normal map through a Normal Map
+    node (tangent space, UV_MAP) into the Normal; the height (image, zero level, scale in scene
+    units) through a Displacement node into the output's Displacement. Those two links are muted:
+    the result's geometry already has the shape, and the maps would add it a second time. They are
+    wired for a flat surface (copy the nodes there, or unmute them on a plane with the same UVs)."""
     material = bpy.data.materials.new(name)
     material.use_nodes = True
     nodes, links = material.node_tree.nodes, material.node_tree.links
     shader = nodes.get("Principled BSDF")
-    texture = nodes.new("ShaderNodeTexImage")
-    texture.image = image
-    texture.location = (shader.location.x - 320, shader.location.y)
-    links.new(texture.outputs["Color"], shader.inputs["Base Color"])
+    x, y = shader.location
+    if source_image is not None:
+        texture = _texture_node(nodes, source_image, (x - 320, y))
+        links.new(texture.outputs["Color"], shader.inputs["Base Color"])
+    if normal_image is not None:
+        texture = _texture_node(nodes, normal_image, (x - 560, y - 320))
+        texture.label = "Normal map"
+        normal_map = nodes.new("ShaderNodeNormalMap")
+        normal_map.space, normal_map.uv_map = "TANGENT", UV_MAP
+        normal_map.location = (x - 220, y - 320)
+        links.new(texture.outputs["Color"], normal_map.inputs["Color"])
+        links.new(normal_map.outputs["Normal"], shader.inputs["Normal"]).is_muted = True
+    if height is not None:
+        image, zero, scale = height
+        output = nodes.get("Material Output")
+        texture = _texture_node(nodes, image, (x - 560, y - 620))
+        texture.label = "Height map"
+        displacement = nodes.new("ShaderNodeDisplacement")
+        displacement.location = (output.location.x, output.location.y - 620)
+        displacement.inputs["Midlevel"].default_value = zero
+        displacement.inputs["Scale"].default_value = scale
+        links.new(texture.outputs["Color"], displacement.inputs["Height"])
+        links.new(displacement.outputs["Displacement"], output.inputs["Displacement"]).is_muted = True
     return material
 
 
-def _displace(obj: bpy.types.Object, name: str, depth: np.ndarray, mask: np.ndarray, strength: float) -> None:
-    height = np.where(mask, depth, 0.0).astype(np.float32)
-    rgba = np.dstack([height, height, height, np.ones_like(height)])
-    texture = bpy.data.textures.new(f"{name} height", type="IMAGE")
-    texture.image = _float_image(f"{name} height", rgba)
+def _displace(obj: bpy.types.Object, height: tuple[bpy.types.Image, float, float]) -> None:
+    """A Displace modifier that pushes the flat grid up by the height image (see height_image),
+    ``height`` = (image, zero level, scale in scene units)."""
+    image, zero, scale = height
+    texture = bpy.data.textures.new(image.name, type="IMAGE")
+    texture.image = image
     texture.extension = "EXTEND"
     modifier = obj.modifiers.new("ShadeCut height", "DISPLACE")
     modifier.texture = texture
     modifier.texture_coords = "UV"
-    modifier.uv_layer = "UVMap"
+    modifier.uv_layer = UV_MAP
     modifier.direction = "Z"
     modifier.space = "LOCAL"
-    modifier.mid_level = 0.0
-    modifier.strength = strength
+    modifier.mid_level = zero
+    modifier.strength = scale
 
 
 def limited_depth_scale(depth: np.ndarray, mask: np.ndarray, width: float, depth_scale: float,
@@ -78,6 +127,7 @@ def result_object(
     density: int,
     displace: bool,
     normal_map: bool,
+    height_map: bool = False,
 ) -> bpy.types.Object:
     """Links a new object showing depth (H, W) pixel units to the active collection, at the 3-D
     cursor, and selects it.
@@ -86,23 +136,31 @@ def result_object(
     and images are named after the object's own name, so that a later result never takes over an
     earlier one's datablocks.
     ``displace``: a flat grid carrying a Displace modifier and a height image instead of real heights.
+    ``normal_map``, ``height_map``: also a packed tangent-space normal map / height image, "<name>
+    normals" / "<name> height", wired into the material (the displaced grid's height image is reused).
     Raises MeshError (see :func:`depth_mesh`) before creating anything.
     """
     unit = width / depth.shape[1]
-    if displace and not np.isfinite(np.float32(unit * depth_scale)):
-        raise MeshError("the displacement strength would not be a finite number: lower the width or the depth scale")
+    height = None
+    if displace or height_map:
+        values, zero, span = unit_height(depth, mask)
+        height = (values, zero, span * unit * depth_scale)
+        if not np.isfinite(np.float32(height[2])):
+            raise MeshError("the displacement strength would not be a finite number: lower the width or the depth scale")
     mesh = depth_mesh(name, np.zeros_like(depth) if displace else depth, mask,
                       size=width, depth_scale=depth_scale, step=density)
     obj = bpy.data.objects.new(name, mesh)
     name = obj.name  # "<image>.001" when an earlier result has the image's name
     mesh.name = name
     obj.location = context.scene.cursor.location
-    if source_image is not None:
-        mesh.materials.append(_image_material(f"{name} shading", source_image))
+    if height is not None:
+        height = (height_image(f"{name} height", height[0]), *height[1:])
     if displace:
-        _displace(obj, name, depth, mask, unit * depth_scale)
-    if normal_map:
-        normal_map_image(f"{name} normals", normals, mask)
+        _displace(obj, height)
+    normal_image = normal_map_image(f"{name} normals", normals, mask) if normal_map else None
+    if source_image is not None or normal_image is not None or height_map:
+        mesh.materials.append(_result_material(f"{name} shading", source_image, normal_image,
+                                               height if height_map else None))
 
     context.collection.objects.link(obj)
     for other in context.view_layer.objects.selected:
