@@ -103,7 +103,7 @@ def test_coarse_to_fine_reaches_the_exact_minimum_s_accuracy(scene):
     assert abs(fast_error - exact_error) <= 0.25
     assert abs(everywhere_error - exact_error) <= 0.25
     # Local minima of the banded moves: with the band everywhere measured 1.8% (sphere) and 0.9%
-    # (bumps) above the exact one; with the band only near the coarse jumps 3.2% and 0.9%, the smooth
+    # (bumps) above the exact one; with the band only at the coarse jumps 4.3% and 1.0%, the smooth
     # parts keeping the coarse labels' one-step quantisation, which the snapping to the local
     # candidates removes from the normals.
     assert energy["band everywhere"] <= 1.03 * energy["exact"]
