@@ -192,6 +192,9 @@ class RecordingLayout:
     def operator(self, *_arguments, **_options):
         return types.SimpleNamespace()
 
+    def template_icon(self, **_options):  # the light preview (light_preview.draw): no setting
+        pass
+
 
 def drawn_settings(draw, settings):
     drawn = []

@@ -2,13 +2,14 @@
 
 Nothing outside this subpackage imports it, so ``import shadecut`` keeps working without Blender.
 The modules: one per operator (``reconstruct_operator``, ``render_operator``), their settings on
-the scene (``properties``), the sidebar (``panels``), the add-on's ``preferences``, and the helpers
-the operators use (``frames``, ``lambertian``, ``mesh``, ``result``). Every class is registered
-from :data:`CLASSES` below.
+the scene (``properties``), the sidebar (``panels``, with its ``light_preview``), the add-on's
+``preferences``, and the helpers the operators use (``frames``, ``lambertian``, ``mesh``,
+``result``). Every class is registered from :data:`CLASSES` below.
 """
 
 import bpy
 
+from . import light_preview
 from .panels import (SHADECUT_PT_advanced_image, SHADECUT_PT_advanced_view3d, SHADECUT_PT_reconstruct_image,
                      SHADECUT_PT_reconstruct_view3d, SHADECUT_PT_render_view3d)
 from .preferences import ShadeCutPreferences
@@ -37,9 +38,11 @@ def register() -> None:
         bpy.utils.register_class(cls)
     bpy.types.Scene.shadecut = bpy.props.PointerProperty(type=ShadeCutReconstructSettings)
     bpy.types.Scene.shadecut_render = bpy.props.PointerProperty(type=ShadeCutRenderSettings)
+    light_preview.register()
 
 
 def unregister() -> None:
+    light_preview.unregister()
     del bpy.types.Scene.shadecut_render
     del bpy.types.Scene.shadecut
     for cls in reversed(CLASSES):

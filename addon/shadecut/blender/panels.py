@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import bpy
 
+from . import light_preview
 from .reconstruct_operator import SHADECUT_OT_reconstruct
 from .render_operator import SHADECUT_OT_render_lambertian
 
@@ -27,16 +28,21 @@ def draw_reconstruct_settings(layout, settings) -> None:
             column.prop(settings, "camera")
     elif settings.light_source == "DIRECTION":
         column.prop(settings, "light_direction")
+    light_preview.draw(column, bpy.context, settings)
 
     column = layout.column()
-    column.prop(settings, "output")
-    column.prop(settings, "width")
+    column.prop(settings, "target")
+    new_object = settings.target == "NEW_OBJECT"
+    if new_object:
+        column.prop(settings, "output")
+        column.prop(settings, "width")
     column.prop(settings, "depth_scale")
     column.prop(settings, "max_height")
-    column.prop(settings, "density")
-    sub = column.column()
-    sub.active = settings.density == 0
-    sub.prop(settings, "max_vertices")
+    if new_object:
+        column.prop(settings, "density")
+        sub = column.column()
+        sub.active = settings.density == 0
+        sub.prop(settings, "max_vertices")
     column.prop(settings, "normal_map")
     column.prop(settings, "height_map")
 

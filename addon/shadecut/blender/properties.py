@@ -124,6 +124,17 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
                     "Estimate works it out itself",
     )
 
+    target: bpy.props.EnumProperty(
+        name="Apply to",
+        items=(
+            ("NEW_OBJECT", "New object", "Build a new object with the reconstructed shape at the 3-D cursor"),
+            ("ACTIVE_MATERIAL", "Active object", "Put the Normal map and/or Height map into the active object's "
+                                                 "active material (a flat plane textured with the image, say), "
+                                                 "wired and live, following its UV map. No new mesh"),
+        ),
+        default="NEW_OBJECT",
+        description="Where the result goes: a new object, or maps in the selected object's material",
+    )
     output: bpy.props.EnumProperty(
         name="Output",
         items=(

@@ -1,4 +1,5 @@
-"""The "Reconstruct" operator: a Blender image in, a new mesh object at the 3-D cursor out."""
+"""The "Reconstruct" operator: a Blender image in, a new mesh object at the 3-D cursor out (or, with
+Apply to = Active object, its maps in the active object's material)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from .. import api, imaging
 from .frames import FrameError, light_in_camera_frame
 from .preferences import addon_preferences
 from .mesh import MeshError, vertex_step
-from .result import limited_depth_scale, result_object
+from .result import TargetError, apply_maps, check_target, limited_depth_scale, result_object
 
 # Below this the image is black for the method: it needs shading to read slants from.
 DARK_LIMIT = 1e-4
@@ -292,7 +293,13 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
         raise InputError(f"Image '{source.name}' is transparent everywhere: its alpha leaves no pixel to reconstruct")
     if not image[mask].max() > DARK_LIMIT:
         raise InputError(f"Image '{source.name}' is black: shape from shading needs a lit, shaded surface")
-    _check_density(source.name, mask, settings.density, settings.max_vertices)
+    if settings.target == "ACTIVE_MATERIAL":
+        try:
+            check_target(context.active_object, normal_map=settings.normal_map, height_map=settings.height_map)
+        except TargetError as error:
+            raise InputError(str(error)) from error
+    else:
+        _check_density(source.name, mask, settings.density, settings.max_vertices)
     light, light_origin = _light(context, settings)
 
     preferences = addon_preferences(context)
@@ -310,15 +317,40 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
         albedo=None if settings.auto_albedo or light is None else settings.albedo,
         options=options,
         source_image=source,
-        output=_output_settings(settings),
+        output=_output_settings(settings, context),
         created_image=created,
     )
 
 
-def _output_settings(settings) -> dict:
+def _output_settings(settings, context=None) -> dict:
+    target = None  # the name of the object whose material gets the maps; None = a new object
+    if settings.target == "ACTIVE_MATERIAL" and context is not None and context.active_object is not None:
+        target = context.active_object.name
     return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=settings.max_height,
                 density=settings.density, max_vertices=settings.max_vertices, displace=settings.output == "DISPLACE",
-                normal_map=settings.normal_map, height_map=settings.height_map)
+                normal_map=settings.normal_map, height_map=settings.height_map, target=target)
+
+
+def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
+    """Puts the finished job's maps into the target object's material (result.apply_maps)."""
+    result = job.result
+    obj = context.scene.objects.get(out["target"])
+    try:
+        material = apply_maps(obj, result.depth, result.normals, result.mask, normal_map=out["normal_map"],
+                              height_map=out["height_map"], depth_scale=out["depth_scale"],
+                              max_height=out["max_height"])
+    except TargetError as error:
+        discard_job(job)
+        operator.report({"ERROR"}, f"Cannot apply the maps: {error}")
+        return {"CANCELLED"}
+    maps = " and ".join(kind for kind, wanted in (("normal map", out["normal_map"]), ("height map", out["height_map"]))
+                        if wanted)
+    light = ", ".join(f"{v:.3f}" for v in result.light)
+    operator.report({"INFO"}, f"{maps.capitalize()} of image '{job.source_image.name}' applied to "
+                              f"material '{material.name}' of '{obj.name}': {job.options['method']} in "
+                              f"{time.perf_counter() - job.started:.1f} s, {job.light_origin} ({light}), "
+                              f"albedo {result.albedo:.3f}")
+    return {"FINISHED"}
 
 
 def discard_job(job: Job) -> None:
@@ -332,7 +364,8 @@ def discard_job(job: Job) -> None:
 
 
 def finish_job(operator, context, job: Job) -> set[str]:
-    """Reports the outcome of a finished job and, on success, builds the result object.
+    """Reports the outcome of a finished job and, on success, builds the result object (or, with
+    Apply to = Active object, puts the maps into that object's material).
 
     On failure nothing is added, and an image the job loaded itself is removed again.
     """
@@ -347,7 +380,9 @@ def finish_job(operator, context, job: Job) -> set[str]:
     if job.error is not None:
         operator.report({"ERROR"}, f"Reconstruction failed ({type(job.error).__name__}: {job.error})")
         return {"CANCELLED"}
-    out = job.output or _output_settings(context.scene.shadecut)
+    out = job.output or _output_settings(context.scene.shadecut, context)
+    if out.get("target"):
+        return _finish_on_target(operator, context, job, out)
     result = job.result
     step = mesh_step(result.mask, out["density"], out["max_vertices"])
     try:

@@ -13,6 +13,9 @@ from .mesh import MeshError, depth_mesh
 
 
 UV_MAP = "UVMap"  # the result mesh's UV map (mesh.depth_mesh)
+# The nodes wire_maps adds, by name: applying the maps again replaces them.
+NORMAL_TEXTURE, NORMAL_NODE = "ShadeCut normals", "ShadeCut normal map"
+HEIGHT_TEXTURE, HEIGHT_NODE = "ShadeCut height", "ShadeCut displacement"
 
 
 def _float_image(name: str, rgba: np.ndarray) -> bpy.types.Image:
@@ -50,13 +53,50 @@ def _texture_node(nodes, image: bpy.types.Image, location) -> bpy.types.Node:
     return texture
 
 
+def wire_maps(material: bpy.types.Material, normal_image: bpy.types.Image | None,
+              height: tuple[bpy.types.Image, float, float] | None, *, shader: bpy.types.Node,
+              output: bpy.types.Node, uv_map: str, muted: bool) -> None:
+    """Adds to ``material``'s nodes the normal map (Image Texture -> Normal Map node, tangent space,
+    ``uv_map``) into ``shader``'s Normal, and the height (image, zero level, scale in object units)
+    through a Displacement node into ``output``'s Displacement; those two last links ``muted`` or not.
+    The new nodes are named "ShadeCut ..."; ones of those names left by an earlier call are replaced."""
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    x, y = shader.location
+    if normal_image is not None:
+        for name in (NORMAL_TEXTURE, NORMAL_NODE):
+            if name in nodes:
+                nodes.remove(nodes[name])
+        texture = _texture_node(nodes, normal_image, (x - 560, y - 320))
+        texture.name, texture.label = NORMAL_TEXTURE, "Normal map"
+        normal_map = nodes.new("ShaderNodeNormalMap")
+        normal_map.name = NORMAL_NODE
+        normal_map.space, normal_map.uv_map = "TANGENT", uv_map
+        normal_map.location = (x - 220, y - 320)
+        links.new(texture.outputs["Color"], normal_map.inputs["Color"])
+        links.new(normal_map.outputs["Normal"], shader.inputs["Normal"]).is_muted = muted
+    if height is not None:
+        for name in (HEIGHT_TEXTURE, HEIGHT_NODE):
+            if name in nodes:
+                nodes.remove(nodes[name])
+        image, zero, scale = height
+        texture = _texture_node(nodes, image, (x - 560, y - 620))
+        texture.name, texture.label = HEIGHT_TEXTURE, "Height map"
+        displacement = nodes.new("ShaderNodeDisplacement")
+        displacement.name = HEIGHT_NODE
+        displacement.location = (output.location.x, output.location.y - 620)
+        displacement.inputs["Midlevel"].default_value = zero
+        displacement.inputs["Scale"].default_value = scale
+        links.new(texture.outputs["Color"], displacement.inputs["Height"])
+        links.new(displacement.outputs["Displacement"], output.inputs["Displacement"]).is_muted = muted
+
+
 def _result_material(name: str, source_image: bpy.types.Image | None, normal_image: bpy.types.Image | None,
                      height: tuple[bpy.types.Image, float, float] | None) -> bpy.types.Material:
     """The result's material: the source image as Base Color; the normal map through a Normal Map
     node (tangent space, UV_MAP) into the Normal; the height (image, zero level, scale in scene
     units) through a Displacement node into the output's Displacement. Those two links are muted:
     the result's geometry already has the shape, and the maps would add it a second time. They are
-    wired for a flat surface (copy the nodes there, or unmute them on a plane with the same UVs)."""
+    wired for a flat surface (see :func:`apply_maps`, or unmute them on a plane with the same UVs)."""
     material = bpy.data.materials.new(name)
     material.use_nodes = True
     nodes, links = material.node_tree.nodes, material.node_tree.links
@@ -65,25 +105,8 @@ def _result_material(name: str, source_image: bpy.types.Image | None, normal_ima
     if source_image is not None:
         texture = _texture_node(nodes, source_image, (x - 320, y))
         links.new(texture.outputs["Color"], shader.inputs["Base Color"])
-    if normal_image is not None:
-        texture = _texture_node(nodes, normal_image, (x - 560, y - 320))
-        texture.label = "Normal map"
-        normal_map = nodes.new("ShaderNodeNormalMap")
-        normal_map.space, normal_map.uv_map = "TANGENT", UV_MAP
-        normal_map.location = (x - 220, y - 320)
-        links.new(texture.outputs["Color"], normal_map.inputs["Color"])
-        links.new(normal_map.outputs["Normal"], shader.inputs["Normal"]).is_muted = True
-    if height is not None:
-        image, zero, scale = height
-        output = nodes.get("Material Output")
-        texture = _texture_node(nodes, image, (x - 560, y - 620))
-        texture.label = "Height map"
-        displacement = nodes.new("ShaderNodeDisplacement")
-        displacement.location = (output.location.x, output.location.y - 620)
-        displacement.inputs["Midlevel"].default_value = zero
-        displacement.inputs["Scale"].default_value = scale
-        links.new(texture.outputs["Color"], displacement.inputs["Height"])
-        links.new(displacement.outputs["Displacement"], output.inputs["Displacement"]).is_muted = True
+    wire_maps(material, normal_image, height, shader=shader, output=nodes.get("Material Output"),
+              uv_map=UV_MAP, muted=True)
     return material
 
 
@@ -168,3 +191,90 @@ def result_object(
     obj.select_set(True)
     context.view_layer.objects.active = obj
     return obj
+
+
+class TargetError(ValueError):
+    """An object that cannot take the maps (see :func:`check_target`); the message says why."""
+
+
+def _target_nodes(material: bpy.types.Material) -> tuple[bpy.types.Node, bpy.types.Node]:
+    """The shader that takes the normal map (the one wired to the active output's Surface when it has
+    a Normal input, else the first Principled BSDF) and the active Material Output."""
+    nodes = material.node_tree.nodes
+    outputs = [node for node in nodes if node.type == "OUTPUT_MATERIAL"]
+    output = next((node for node in outputs if node.is_active_output), outputs[0] if outputs else None)
+    if output is None:
+        raise TargetError(f"Material '{material.name}' has no Material Output node: add one")
+    surface = output.inputs["Surface"].links
+    shader = surface[0].from_node if surface else None
+    if shader is None or "Normal" not in shader.inputs:
+        shader = next((node for node in nodes if node.type == "BSDF_PRINCIPLED"), None)
+    if shader is None:
+        raise TargetError(f"Material '{material.name}' has no shader with a Normal input (Principled BSDF): "
+                          "add one, or remove the material to have a new one made")
+    return shader, output
+
+
+def check_target(obj: bpy.types.Object | None, *, normal_map: bool, height_map: bool) -> None:
+    """Raises TargetError unless :func:`apply_maps` can put the maps on ``obj``'s active material."""
+    if obj is None:
+        raise TargetError("No active object: select the object (a plane with the image as texture) that gets "
+                          "the maps, or set Apply to to New object")
+    if obj.type != "MESH":
+        raise TargetError(f"Active object '{obj.name}' is a {obj.type.lower()}, not a mesh: select a mesh with "
+                          "UVs, or set Apply to to New object")
+    if not obj.data.uv_layers:
+        raise TargetError(f"Active object '{obj.name}' has no UV map, which the maps follow: unwrap it "
+                          "(Edit Mode, U), or set Apply to to New object")
+    if not (normal_map or height_map):
+        raise TargetError("Tick Normal map or Height map (or both): they are what goes into the active "
+                          "object's material")
+    material = obj.active_material
+    if material is not None:
+        if material.library is not None or obj.data.library is not None:
+            raise TargetError(f"Material '{material.name}' is linked from a library and cannot be edited")
+        if material.use_nodes and material.node_tree is not None:
+            _target_nodes(material)
+
+
+def apply_maps(obj: bpy.types.Object, depth: np.ndarray, normals: np.ndarray, mask: np.ndarray, *,
+               normal_map: bool, height_map: bool, depth_scale: float, max_height: float) -> bpy.types.Material:
+    """Puts the normal map and/or the height image, "<object> normals" / "<object> height", into
+    ``obj``'s active material (a new one when it has none), linked and not muted: ``obj`` is
+    meant to be flat (the artist's textured plane), its active UV map laying the image out as the
+    result's UVs do. Other nodes and links stay; earlier ShadeCut map nodes are replaced. The
+    height's scale is in object units, the image spanning the object's X extent (``depth_scale``,
+    ``max_height`` as for the result). Raises TargetError (:func:`check_target`) before changing anything."""
+    check_target(obj, normal_map=normal_map, height_map=height_map)
+    xs = [corner[0] for corner in obj.bound_box]
+    width = (max(xs) - min(xs)) or 1.0
+    height = None
+    if height_map:
+        values, zero, span = unit_height(depth, mask)
+        scale = span * width / depth.shape[1] * limited_depth_scale(depth, mask, width, depth_scale, max_height)
+        if not np.isfinite(np.float32(scale)):
+            raise TargetError("the displacement scale would not be a finite number: lower the depth scale")
+        height = (values, zero, scale)
+
+    material = obj.active_material
+    if material is None:
+        material = bpy.data.materials.new(f"{obj.name} material")
+        material.use_nodes = True
+        if obj.material_slots:  # an empty slot
+            obj.active_material = material
+        else:
+            obj.data.materials.append(material)
+    elif not material.use_nodes or material.node_tree is None:
+        colour = tuple(material.diffuse_color)
+        material.use_nodes = True
+        shader = next((node for node in material.node_tree.nodes if node.type == "BSDF_PRINCIPLED"), None)
+        if shader is not None:
+            shader.inputs["Base Color"].default_value = colour
+    shader, output = _target_nodes(material)
+    normal_image = normal_map_image(f"{obj.name} normals", normals, mask) if normal_map else None
+    if height is not None:
+        height = (height_image(f"{obj.name} height", height[0]), *height[1:])
+    uv_layers = obj.data.uv_layers
+    uv_map = next((layer.name for layer in uv_layers if layer.active_render), uv_layers.active.name)
+    wire_maps(material, normal_image, height, shader=shader, output=output, uv_map=uv_map, muted=False)
+    return material

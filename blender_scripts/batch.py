@@ -1,0 +1,274 @@
+"""Headless batch: every image of a folder reconstructed, its height, normal map and mesh written.
+
+    blender -b -P blender_scripts/batch.py -- IN_DIR OUT_DIR [--scene object|relief] [--max-size N]
+    python3 blender_scripts/batch.py IN_DIR OUT_DIR [...]       (works without Blender too)
+
+Every file of IN_DIR (not its subfolders) with an image extension (.png .jpg .jpeg .tif .tiff .exr
+.hdr .bmp .tga, any case) is read by ``shadecut.load_image`` (its alpha, if any, is the mask),
+reconstructed by ``shadecut.reconstruct`` with the light and albedo estimated from the image and the
+library's default options, and written to OUT_DIR (created if missing) as
+
+    <stem>_height.exr   the depth in pixel units, larger = closer (channels Z and A = mask)
+    <stem>_normal.png   a tangent-space normal map, 0.5 n + 0.5 as RGB (16-bit, Non-Color data),
+                        the add-on's rule (shadecut.imaging.normal_colors)
+    <stem>.ply          the height field as a triangle mesh (shadecut.save_mesh), pixel units
+
+--scene relief is the add-on's Subject = Relief (a wall, a coin, bark); --max-size N shrinks a larger
+image by a whole factor until neither side exceeds N pixels, as the add-on's Max size does (0 = full
+size, the default here). Each file's three outputs are written under temporary names and then
+renamed, so a file named like an output is always complete.
+
+One progress line per image (index/total, name, seconds, the light found); a file that cannot be
+read or reconstructed gets an error line naming it, and the others are still done. Files without an
+image extension are listed as skipped.
+
+Exit code: 0 when every image was done; 1 when an image failed (each named, and listed again at the
+end); 2 for bad arguments (IN_DIR missing or not a folder, no image file in it, OUT_DIR not
+creatable, a negative --max-size), with a message and no traceback. Ctrl+C (SIGINT) stops the run:
+the image under way is abandoned (nothing of it is written), the finished ones are kept, exit code 130.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import ctypes
+import os
+import signal
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[1]
+if str(REPO / "addon") not in sys.path:
+    sys.path.insert(0, str(REPO / "addon"))
+
+import OpenImageIO as oiio  # noqa: E402  (shadecut.dataset's writer too; in Debian's Blender and python3)
+import shadecut  # noqa: E402  (after the path insert: the repository's package)
+from shadecut import imaging  # noqa: E402
+
+IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr", ".hdr", ".bmp", ".tga")
+PROG = "batch.py"
+
+
+class UsageError(Exception):
+    """Bad arguments: reported with a message and exit code 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise UsageError(message)
+
+
+def parse_args(argv: list[str]) -> argparse.Namespace:
+    parser = _Parser(prog="blender -b -P blender_scripts/batch.py --",
+                     description="Reconstructs every image of IN_DIR into OUT_DIR (see the module docstring).")
+    parser.add_argument("in_dir", type=Path, metavar="IN_DIR", help="folder of images")
+    parser.add_argument("out_dir", type=Path, metavar="OUT_DIR", help="output folder (created if missing)")
+    parser.add_argument("--scene", choices=list(shadecut.SceneKind.__members__),
+                        help=f"what the images show (default: the library's, "
+                             f"{shadecut.ReconstructOptions().scene.name})")
+    parser.add_argument("--max-size", type=int, default=0, metavar="N",
+                        help="shrink larger images by a whole factor to at most N px a side (default 0 = full size)")
+    args = parser.parse_args(argv)
+    if args.max_size < 0:
+        raise UsageError(f"--max-size must be 0 (full size) or more, not {args.max_size}")
+    return args
+
+
+def list_inputs(in_dir: Path) -> tuple[list[Path], list[Path]]:
+    """The image files of ``in_dir`` (sorted by name) and the other visible files (skipped)."""
+    if not in_dir.exists():
+        raise UsageError(f"IN_DIR {in_dir} does not exist")
+    if not in_dir.is_dir():
+        raise UsageError(f"IN_DIR {in_dir} is not a folder")
+    try:
+        files = sorted((path for path in in_dir.iterdir() if path.is_file()), key=lambda path: path.name)
+    except OSError as error:
+        raise UsageError(f"cannot list IN_DIR {in_dir}: {error.strerror or error}") from error
+    images = [path for path in files if path.suffix.lower() in IMAGE_EXTENSIONS]
+    skipped = [path for path in files if path not in images and not path.name.startswith(".")]
+    if not images:
+        raise UsageError(f"IN_DIR {in_dir} holds no image file ({' '.join(IMAGE_EXTENSIONS)})")
+    return images, skipped
+
+
+def prepare_output(out_dir: Path) -> None:
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise UsageError(f"cannot create OUT_DIR {out_dir}: {error.strerror or error}") from error
+    if not os.access(out_dir, os.W_OK | os.X_OK):
+        raise UsageError(f"OUT_DIR {out_dir} is not writable")
+
+
+def output_paths(out_dir: Path, stem: str) -> dict[str, Path]:
+    return {"height": out_dir / f"{stem}_height.exr", "normal": out_dir / f"{stem}_normal.png",
+            "mesh": out_dir / f"{stem}.ply"}
+
+
+def save_normal_map(path: Path, normals: np.ndarray, mask: np.ndarray) -> None:
+    """The normals as a 16-bit RGB PNG of the add-on's normal-map colours (imaging.normal_colors)."""
+    colors = imaging.normal_colors(normals, mask)
+    height, width = mask.shape
+    out = oiio.ImageOutput.create(str(path))
+    if out is None or not out.open(str(path), oiio.ImageSpec(width, height, 3, oiio.UINT16)):
+        raise OSError(f"cannot write {path}: {oiio.geterror()}")
+    written = out.write_image(np.round(np.clip(colors, 0.0, 1.0) * 65535).astype(np.uint16))
+    out.close()
+    if not written:
+        raise OSError(f"cannot write {path}: {oiio.geterror()}")
+
+
+def _partial(path: Path) -> Path:
+    """A hidden temporary name beside ``path`` that keeps its extension (the writers go by it)."""
+    return path.with_name(f".{path.stem}.partial{path.suffix}")
+
+
+def write_outputs(paths: dict[str, Path], result) -> None:
+    """The three files of one reconstruction, each written under a temporary name and then renamed."""
+    partial = {key: _partial(path) for key, path in paths.items()}
+    try:
+        shadecut.save_depth(partial["height"], result.depth, result.mask)
+        save_normal_map(partial["normal"], result.normals, result.mask)
+        shadecut.save_mesh(partial["mesh"], result.depth, result.mask)
+        for key, path in paths.items():
+            os.replace(partial[key], path)
+    finally:
+        for path in partial.values():
+            with contextlib.suppress(OSError):
+                path.unlink()
+
+
+class _Interrupt:
+    requested = False
+
+
+def _on_sigint(signum, frame):
+    if not _Interrupt.requested:
+        print(f"{PROG}: Ctrl+C: stopping (the image under way is abandoned)", file=sys.stderr, flush=True)
+    _Interrupt.requested = True
+
+
+def _progress(fraction: float, stage: str) -> bool:
+    return not _Interrupt.requested  # False: the core stops with shadecut.Cancelled
+
+
+@contextlib.contextmanager
+def stop_on_interrupt():
+    """Ctrl+C (SIGINT) only asks the run to stop; the reconstruction under way sees it through its
+    progress callback. Blender in background mode has its own C handler (which would let the run go
+    on): it is saved and put back afterwards, as make_dataset.py does."""
+    _Interrupt.requested = False
+    try:
+        libc = ctypes.CDLL(None) if os.name == "posix" else None
+        saved = ctypes.create_string_buffer(512)  # a struct sigaction, opaque: smaller than this everywhere
+        if libc is not None and libc.sigaction(signal.SIGINT, None, saved) != 0:
+            libc = None
+        previous = signal.signal(signal.SIGINT, _on_sigint)
+    except (ValueError, OSError, AttributeError):  # not the main thread, or no sigaction
+        yield
+        return
+    try:
+        yield
+    finally:
+        if previous is not None:  # a handler set from Python
+            signal.signal(signal.SIGINT, previous)
+        else:  # one set in C (Blender's): back to it, as it was
+            signal.signal(signal.SIGINT, signal.SIG_DFL)
+            if libc is not None:
+                libc.sigaction(signal.SIGINT, saved, None)
+
+
+def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str]:
+    """The reconstruction of one image file, and a note on its working size ("" at full size)."""
+    loaded = shadecut.load_image(path)
+    image, mask = loaded.image, loaded.mask
+    note = ""
+    if args.max_size:
+        height, width = mask.shape
+        try:
+            image, mask, factor = imaging.downsample(image, mask, args.max_size)
+        except ValueError as error:
+            raise ValueError(f"--max-size {args.max_size}: {error}") from error
+        if factor > 1:
+            note = f" (shrunk by {factor} from {width} x {height})"
+    options = {"scene": args.scene} if args.scene else {}
+    return shadecut.reconstruct(image, mask=mask, progress=_progress, **options), note
+
+
+def run(args: argparse.Namespace) -> int:
+    images, skipped = list_inputs(args.in_dir)
+    prepare_output(args.out_dir)
+    options = shadecut.ReconstructOptions() if args.scene is None else shadecut.ReconstructOptions(scene=args.scene)
+    print(f"{PROG}: {len(images)} image(s) in {args.in_dir} -> {args.out_dir}; scene {options.scene.name}, "
+          f"method {options.method.name}, light estimated ({options.light_method.name}), "
+          f"max size {args.max_size or 'full'}", flush=True)
+    for path in skipped:
+        print(f"{PROG}: skipped {path.name}: not an image file ({path.suffix or 'no extension'})", flush=True)
+
+    failed: list[tuple[str, str]] = []
+    stems: dict[str, str] = {}
+    total, start = len(images), time.perf_counter()
+    for index, path in enumerate(images, 1):
+        if _Interrupt.requested:
+            raise KeyboardInterrupt
+        began = time.perf_counter()
+        label = f"[{index}/{total}] {path.name}"
+        try:
+            if path.stem in stems:
+                raise ValueError(f"its outputs would overwrite those of {stems[path.stem]} (same name "
+                                 f"'{path.stem}'): rename one of them")
+            result, note = reconstruct_file(path, args)
+            write_outputs(output_paths(args.out_dir, path.stem), result)
+        except shadecut.Cancelled:
+            raise KeyboardInterrupt from None
+        except Exception as error:  # noqa: BLE001  (one bad file must not stop the others)
+            kind = "" if isinstance(error, (OSError, ValueError)) else f"{type(error).__name__}: "
+            message = "; ".join(line.strip() for line in str(error).removeprefix("shadecut: ").splitlines()
+                                if line.strip()) or "no message"
+            failed.append((path.name, f"{kind}{message}"))
+            print(f"{label}: error: {kind}{message}", file=sys.stderr, flush=True)
+            continue
+        stems[path.stem] = path.name
+        light = ", ".join(f"{value:.3f}" for value in result.light)
+        height, width = result.mask.shape
+        print(f"{label}: {time.perf_counter() - began:.1f} s, light found ({light}), albedo {result.albedo:.3f}, "
+              f"{width} x {height}{note} -> {path.stem}_height.exr, {path.stem}_normal.png, {path.stem}.ply",
+              flush=True)
+
+    done = total - len(failed)
+    print(f"{PROG}: {done} of {total} image(s) done in {time.perf_counter() - start:.1f} s"
+          + (f"; {len(failed)} failed:" if failed else ""), flush=True)
+    for name, message in failed:
+        print(f"  {name}: {message}", file=sys.stderr, flush=True)
+    return 1 if failed else 0
+
+
+def main(argv: list[str]) -> int:
+    """Runs the batch with the arguments that follow "--" on Blender's command line."""
+    try:
+        args = parse_args(argv)
+        with stop_on_interrupt():
+            return run(args)
+    except UsageError as error:
+        print(f"{PROG}: error: {error}", file=sys.stderr, flush=True)
+        return 2
+    except SystemExit as exit_:  # --help
+        return int(exit_.code or 0)
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted (Ctrl+C): the run is stopped; the images done so far are written in full",
+              file=sys.stderr, flush=True)
+        return 130
+
+
+if __name__ == "__main__":
+    if "--" in sys.argv:
+        arguments = sys.argv[sys.argv.index("--") + 1:]
+    elif "bpy" in sys.modules:  # blender -P batch.py without "--": no arguments of ours
+        arguments = []
+    else:  # python3 batch.py IN_DIR OUT_DIR
+        arguments = sys.argv[1:]
+    sys.exit(main(arguments))
