@@ -32,9 +32,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import ctypes
 import os
-import signal
 import sys
 import time
 from pathlib import Path
@@ -42,12 +40,14 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-if str(REPO / "addon") not in sys.path:
-    sys.path.insert(0, str(REPO / "addon"))
+for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; sigint.py
+    if _path not in sys.path:
+        sys.path.insert(0, _path)
 
 import OpenImageIO as oiio  # noqa: E402  (shadecut.dataset's writer too; in Debian's Blender and python3)
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
 from shadecut import imaging  # noqa: E402
+from sigint import handling_sigint  # noqa: E402
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr", ".hdr", ".bmp", ".tga")
 PROG = "batch.py"
@@ -162,24 +162,8 @@ def stop_on_interrupt():
     progress callback. Blender in background mode has its own C handler (which would let the run go
     on): it is saved and put back afterwards, as make_dataset.py does."""
     _Interrupt.requested = False
-    try:
-        libc = ctypes.CDLL(None) if os.name == "posix" else None
-        saved = ctypes.create_string_buffer(512)  # a struct sigaction, opaque: smaller than this everywhere
-        if libc is not None and libc.sigaction(signal.SIGINT, None, saved) != 0:
-            libc = None
-        previous = signal.signal(signal.SIGINT, _on_sigint)
-    except (ValueError, OSError, AttributeError):  # not the main thread, or no sigaction
+    with handling_sigint(_on_sigint):
         yield
-        return
-    try:
-        yield
-    finally:
-        if previous is not None:  # a handler set from Python
-            signal.signal(signal.SIGINT, previous)
-        else:  # one set in C (Blender's): back to it, as it was
-            signal.signal(signal.SIGINT, signal.SIG_DFL)
-            if libc is not None:
-                libc.sigaction(signal.SIGINT, saved, None)
 
 
 def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str]:

@@ -37,7 +37,6 @@ import ctypes
 import math
 import os
 import re
-import signal
 import sys
 import time
 from pathlib import Path
@@ -53,6 +52,7 @@ for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # sha
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
 from shadecut import dataset  # noqa: E402
 from shadecut.blender import lambertian  # noqa: E402
+from sigint import handling_sigint  # noqa: E402
 from shapes import (  # noqa: E402
     BUILDERS, CATALOGUE, MESH_SUFFIXES, MeshFileError, load_mesh_file, remove_objects, shape_rng,
 )
@@ -286,24 +286,8 @@ def stop_on_interrupt():
     reports it. Blender's handler is restored afterwards.
     """
     _Interrupt.requested = _Interrupt.deferred = False
-    try:
-        libc = ctypes.CDLL(None) if os.name == "posix" else None
-        saved = ctypes.create_string_buffer(512)  # a struct sigaction, opaque: smaller than this everywhere
-        if libc is not None and libc.sigaction(signal.SIGINT, None, saved) != 0:
-            libc = None
-        previous = signal.signal(signal.SIGINT, _on_sigint)
-    except (ValueError, OSError, AttributeError):  # not the main thread, or no sigaction
+    with handling_sigint(_on_sigint):
         yield
-        return
-    try:
-        yield
-    finally:
-        if previous is not None:  # a handler set from Python
-            signal.signal(signal.SIGINT, previous)
-        else:  # one set in C (Blender's): back to it, as it was
-            signal.signal(signal.SIGINT, signal.SIG_DFL)
-            if libc is not None:
-                libc.sigaction(signal.SIGINT, saved, None)
 
 
 @contextlib.contextmanager

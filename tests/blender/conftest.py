@@ -3,6 +3,8 @@ from pathlib import Path
 import bpy
 import pytest
 
+import shadecut
+
 REPO = Path(__file__).resolve().parents[2]
 
 
@@ -17,3 +19,11 @@ def empty_scene():
 @pytest.fixture(scope="session")
 def repo() -> Path:
     return REPO
+
+
+@pytest.fixture
+def addon():
+    """The add-on registered for one test."""
+    shadecut.register()
+    yield
+    shadecut.unregister()

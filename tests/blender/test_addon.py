@@ -17,13 +17,6 @@ LIGHT = (1.0, 0.0, 1.0)
 
 
 @pytest.fixture
-def addon():
-    shadecut.register()
-    yield
-    shadecut.unregister()
-
-
-@pytest.fixture
 def sphere_png(tmp_path):
     """A sphere rendered by the core and saved as a 16-bit PNG with the mask as alpha."""
     scene = synthetic.sphere(light=LIGHT, size=96)

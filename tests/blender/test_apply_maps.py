@@ -12,13 +12,6 @@ LIGHT = (1.0, 0.0, 1.0)
 
 
 @pytest.fixture
-def addon():
-    shadecut.register()
-    yield
-    shadecut.unregister()
-
-
-@pytest.fixture
 def sphere_png(tmp_path):
     scene = synthetic.sphere(light=LIGHT, size=64)
     path = tmp_path / "sphere.png"

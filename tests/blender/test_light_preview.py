@@ -7,15 +7,7 @@ import numpy as np
 import pytest
 from mathutils import Euler
 
-import shadecut
 from shadecut.blender import light_preview
-
-
-@pytest.fixture
-def addon():
-    shadecut.register()
-    yield
-    shadecut.unregister()
 
 
 def brightest_offset(rgba):

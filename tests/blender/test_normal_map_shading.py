@@ -9,7 +9,6 @@ import math
 
 import bpy
 import numpy as np
-import pytest
 from mathutils import Vector
 
 import shadecut
@@ -18,13 +17,6 @@ from shadecut import synthetic
 LIGHT = (0.6, 0.5, 1.0)  # both tangent axes matter: a flipped red or green channel would show
 SIZE = 64  # the sphere image's pixels = the renders' pixels
 WIDTH = 2.0  # the result's width and the plane's size, in scene units
-
-
-@pytest.fixture
-def addon():
-    shadecut.register()
-    yield
-    shadecut.unregister()
 
 
 def diffuse_material(name):
