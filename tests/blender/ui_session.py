@@ -56,7 +56,8 @@ def steps():
     """The test as a generator: each yield waits for Blender's next timer tick."""
     shadecut.register()
     record_progress()
-    scene = synthetic.sphere(light=LIGHT, size=512)
+    # Big enough that the reconstruction outlasts several 0.1-s timer ticks (512 px now takes 0.7 s).
+    scene = synthetic.sphere(light=LIGHT, size=1024)
     path = Path(tempfile.mkdtemp()) / "sphere.png"
     shadecut.save_image(path, scene.image, scene.mask)
     settings = bpy.context.scene.shadecut
