@@ -13,13 +13,12 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
+from .compatibility import core_problem
+
 try:
     from . import _core
-except ImportError as error:  # the extension is produced by the CMake build
-    raise ImportError(
-        "shadecut's compiled module _core is missing: build it first (see README.md, "
-        "'cmake -S . -B build && cmake --build build'), which places it in addon/shadecut/"
-    ) from error
+except ImportError as error:  # the extension is produced by the CMake build, for one Python
+    raise ImportError(core_problem() or f"shadecut's compiled module _core does not load: {error}") from error
 
 Cancelled = _core.Cancelled
 Cancelled.__doc__ = "Raised when a progress callback returns False."
@@ -219,6 +218,19 @@ def estimate_albedo(image, mask=None, method: Optional[str] = None,
     return _core.estimate_albedo(_real(image), _mask(mask), getattr(method, "name", method), window)
 
 
+def _image_files():
+    """The compiled module for image and mesh files, which links OpenImageIO; imported when first used,
+    since the Blender add-on's zip does not ship it (Blender reads the images there)."""
+    try:
+        from . import _imageio
+    except ImportError as error:
+        raise ImportError(
+            "shadecut's image and mesh files need its module _imageio (OpenImageIO), which the Blender "
+            "add-on does not ship: in Blender, open the image in Blender; elsewhere build ShadeCut from "
+            "source (README.md)") from error
+    return _imageio
+
+
 def load_image(path: str | os.PathLike, color_space: str = "auto", max_pixels: Optional[int] = None) -> LoadedImage:
     """Reads an image file as linear intensity through OpenImageIO.
 
@@ -227,24 +239,25 @@ def load_image(path: str | os.PathLike, color_space: str = "auto", max_pixels: O
     alpha becomes the mask. Raises OSError for a missing or unreadable file, and before reading
     any pixel for one whose header declares more than ``max_pixels`` pixels (None = 2^28).
     """
-    limit = _core.DEFAULT_MAX_PIXELS if max_pixels is None else int(max_pixels)
-    image, mask, has_alpha, color_space_used = _core.load_image(os.fspath(path), color_space, limit)
+    files = _image_files()
+    limit = files.DEFAULT_MAX_PIXELS if max_pixels is None else int(max_pixels)
+    image, mask, has_alpha, color_space_used = files.load_image(os.fspath(path), color_space, limit)
     return LoadedImage(image=image, mask=mask, has_alpha=has_alpha, color_space=color_space_used)
 
 
 def save_image(path: str | os.PathLike, image, mask=None) -> None:
     """Writes linear intensity: float for .exr/.tif, 16-bit sRGB PNG otherwise (alpha = mask)."""
-    _core.save_image(os.fspath(path), _real(image), _mask(mask))
+    _image_files().save_image(os.fspath(path), _real(image), _mask(mask))
 
 
 def save_depth(path: str | os.PathLike, depth, mask=None) -> None:
     """Writes depth: float .exr/.tif (data) or 16-bit PNG scaled to the masked range (a picture)."""
-    _core.save_depth(os.fspath(path), _real(depth), _mask(mask))
+    _image_files().save_depth(os.fspath(path), _real(depth), _mask(mask))
 
 
 def save_normals(path: str | os.PathLike, normals, mask=None) -> None:
     """Writes normals: float .exr/.tif, or an 8-bit PNG normal map (n + 1) / 2."""
-    _core.save_normals(os.fspath(path), _real(normals), _mask(mask))
+    _image_files().save_normals(os.fspath(path), _real(normals), _mask(mask))
 
 
 def height_field_mesh(depth, mask=None, step: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -261,4 +274,4 @@ def height_field_mesh(depth, mask=None, step: int = 1) -> tuple[np.ndarray, np.n
 
 def save_mesh(path: str | os.PathLike, depth, mask=None) -> None:
     """Writes the height field as a .ply or .obj triangle mesh, vertices at (column, -row, depth)."""
-    _core.save_mesh(os.fspath(path), _real(depth), _mask(mask))
+    _image_files().save_mesh(os.fspath(path), _real(depth), _mask(mask))

@@ -4,7 +4,7 @@
 #include <shadecut/grid_graph.hpp>
 #include <shadecut/light.hpp>
 #include <shadecut/local_shape.hpp>
-#include <shadecut/maxflow.hpp>
+#include <reference_maxflow.hpp>
 #include <shadecut/reconstruct.hpp>
 #include <shadecut/render.hpp>
 #include <shadecut/tilt_energy.hpp>
@@ -123,7 +123,7 @@ void BM_MaxFlow(benchmark::State& state, MaxFlowKind kind, int side) {
 class RecordingSolver final : public MaxFlowSolver {
  public:
   explicit RecordingSolver(std::vector<GridGraph>& graphs)
-      : graphs_(graphs), solver_(make_maxflow_solver(MaxFlowKind::Grid)) {}
+      : graphs_(graphs), solver_(make_maxflow_solver()) {}
   double solve(GridGraph& graph, std::vector<std::uint8_t>& sink_side) override {
     graphs_.push_back(graph);
     return solver_->solve(graph, sink_side);
@@ -167,7 +167,7 @@ const MozartProblem& mozart_problem() {
     params.data_term = DataTerm::Soft;
     TiltEnergy energy(local, frame, mask, params);
     std::vector<int> labelling = energy.convex_labelling();
-    const auto solver = make_maxflow_solver(MaxFlowKind::Grid);
+    const auto solver = make_maxflow_solver();
     convexity_cut(energy, local, labelling, *solver);
     return MozartProblem{std::move(local), std::move(energy), std::move(labelling)};
   }();
@@ -194,14 +194,14 @@ class ColdSolver final : public MaxFlowSolver {
   double solve(GridGraph& graph, std::vector<std::uint8_t>& sink_side) override { return grid_->solve(graph, sink_side); }
 
  private:
-  std::unique_ptr<MaxFlowSolver> grid_ = make_maxflow_solver(MaxFlowKind::Grid);
+  std::unique_ptr<MaxFlowSolver> grid_ = make_maxflow_solver();
 };
 
 // The whole alpha-expansion of that reconstruction, to convergence: every move cut from scratch
 // (cold) or from the label's kept flow, finished by a sparse repair where few pixels changed (kept).
 void BM_AlphaExpansionMozart(benchmark::State& state, bool keep_flows) {
   const MozartProblem& problem = mozart_problem();
-  const auto grid = make_maxflow_solver(MaxFlowKind::Grid);
+  const auto grid = make_maxflow_solver();
   ColdSolver cold;
   AlphaExpansionStats stats;
   for (auto _ : state) {

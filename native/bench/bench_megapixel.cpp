@@ -92,7 +92,7 @@ const BumpField& bump_field(int size) {
   return cache.emplace(size, std::move(field)).first->second;
 }
 
-std::unique_ptr<MaxFlowSolver> make_graph_cut_solver() { return make_maxflow_solver(MaxFlowKind::Grid); }
+std::unique_ptr<MaxFlowSolver> make_graph_cut_solver() { return make_maxflow_solver(); }
 
 // The energy global_step builds at its finest level, every label open (no band).
 TiltEnergy full_resolution_energy(const BumpField& field, const LightFrame& frame, const GlobalStepParams& params) {

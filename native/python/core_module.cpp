@@ -1,13 +1,14 @@
-// pybind11 bindings: the private extension shadecut._core. The public, documented API is the Python
-// package in addon/shadecut/, which calls these functions.
+// pybind11 bindings: the private extension shadecut._core, the algorithms and nothing but the C runtime
+// (it ships in the Blender add-on). The public, documented API is the Python package in addon/shadecut/,
+// which calls these functions; image files are the separate _imageio module's.
 #include "arrays.hpp"
 #include "bind_reconstruct.hpp"
+#include "python_errors.hpp"
 
 #include <shadecut/angular_error.hpp>
 #include <shadecut/downsample.hpp>
 #include <shadecut/errors.hpp>
 #include <shadecut/estimate_light.hpp>
-#include <shadecut/image_io.hpp>
 #include <shadecut/height_field_mesh.hpp>
 #include <shadecut/integrate.hpp>
 #include <shadecut/light.hpp>
@@ -33,15 +34,12 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "ShadeCut's compiled core; use the shadecut package, not this module.";
 
   static py::exception<shadecut::Cancelled> cancelled(m, "Cancelled");
-  py::register_exception_translator([](std::exception_ptr error) {
+  py::register_local_exception_translator(translate_core_error);
+  py::register_local_exception_translator([](std::exception_ptr error) {
     try {
       if (error) std::rethrow_exception(error);
     } catch (const shadecut::Cancelled& e) {
       cancelled(e.what());
-    } catch (const shadecut::InvalidArgument& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
-    } catch (const shadecut::IoError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
     }
   });
 
@@ -142,30 +140,4 @@ PYBIND11_MODULE(_core, m) {
   });
 
   m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });
-
-  m.attr("DEFAULT_MAX_PIXELS") = shadecut::kDefaultMaxPixels;
-  m.def("load_image", [](const std::string& path, const std::string& color_space, std::int64_t max_pixels) {
-    const shadecut::LoadedImage loaded = shadecut::load_image(path, shadecut::parse_color_space(color_space), max_pixels);
-    return py::make_tuple(from_image(loaded.intensity), from_mask(loaded.mask), loaded.has_alpha, loaded.color_space);
-  });
-
-  m.def("save_image", [](const std::string& path, const FloatArray& image, const std::optional<BoolArray>& alpha) {
-    const std::optional<Mask> mask = to_mask(alpha);
-    shadecut::save_image(path, to_image(image, "image"), mask ? &*mask : nullptr);
-  });
-
-  m.def("save_depth", [](const std::string& path, const FloatArray& depth, const std::optional<BoolArray>& mask) {
-    const ImageF z = to_image(depth, "depth map");
-    shadecut::save_depth(path, z, mask_or_all(mask, z.rows(), z.cols()));
-  });
-
-  m.def("save_normals", [](const std::string& path, const FloatArray& normals, const std::optional<BoolArray>& mask) {
-    const NormalMap n = to_normals(normals);
-    shadecut::save_normals(path, n, mask_or_all(mask, n.rows, n.cols));
-  });
-
-  m.def("save_mesh", [](const std::string& path, const FloatArray& depth, const std::optional<BoolArray>& mask) {
-    const ImageF z = to_image(depth, "depth map");
-    shadecut::save_mesh(path, z, mask_or_all(mask, z.rows(), z.cols()));
-  });
 }

@@ -1,5 +1,7 @@
 #include "grid_poisson.hpp"
 
+#include "parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -15,6 +17,13 @@ namespace {
 // one other busy process). Rows are handed out in small chunks for the same reason: a thread that
 // lost its core holds up the others by one chunk, not by half the grid.
 constexpr std::size_t kParallelCells = std::size_t(1) << 18;
+constexpr int kRowsPerChunk = 16;
+
+// body(row) for every row of a level of `cells` cells: in parallel on large levels only.
+template <class Body>
+void for_each_row(int rows, std::size_t cells, Body&& body) {
+  parallel_for(rows, kRowsPerChunk, cells >= kParallelCells ? 0 : 1, body);
+}
 
 // A per-cell array with a row and a cell of zeros before and after it, so that the four neighbours
 // of any cell can be read without bounds checks: the weights toward cells off the grid are 0.
@@ -122,15 +131,14 @@ double in_row_order(const std::vector<double>& row_sums) {
 double apply(const Level& level, const double* x, double* out, std::vector<double>& row_sums) {
   const Stencil stencil(level);
   const std::ptrdiff_t cols = level.cols;
-#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
-  for (int r = 0; r < level.rows; ++r) {
+  for_each_row(level.rows, level.size(), [&](int r) {
     double sum = 0.0;
     for (std::ptrdiff_t i = r * cols, end = i + cols; i < end; ++i) {
       out[i] = stencil.laplacian(x, i);
       sum += x[i] * out[i];
     }
     row_sums[std::size_t(r)] = sum;
-  }
+  });
   return in_row_order(row_sums);
 }
 
@@ -142,12 +150,11 @@ void relax(Level& level, int colour) {
   const double* rhs = level.rhs.data();
   double* x = level.solution.data();
   const std::ptrdiff_t cols = level.cols;
-#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
-  for (int r = 0; r < level.rows; ++r) {
+  for_each_row(level.rows, level.size(), [&](int r) {
     for (std::ptrdiff_t i = r * cols + (r + colour) % 2, end = (r + 1) * cols; i < end; i += 2) {
       x[i] = inverse[i] * (rhs[i] + stencil.neighbours(x, i));
     }
-  }
+  });
 }
 
 // Unsmoothed aggregation makes coarse corrections too small (about half for the Laplacian);
@@ -178,8 +185,7 @@ void v_cycle(std::vector<Level>& levels, std::size_t l) {
   const Stencil stencil(level);
   double* coarse_rhs = coarse.rhs.data();
   const std::ptrdiff_t cols = level.cols;
-#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
-  for (int coarse_row = 0; coarse_row < coarse.rows; ++coarse_row) {
+  for_each_row(coarse.rows, level.size(), [&](int coarse_row) {
     double* out = coarse_rhs + std::size_t(coarse_row) * coarse.cols;
     std::fill(out, out + coarse.cols, 0.0);
     for (int r = 2 * coarse_row; r < std::min(2 * coarse_row + 2, level.rows); ++r) {
@@ -188,16 +194,15 @@ void v_cycle(std::vector<Level>& levels, std::size_t l) {
         out[c / 2] += b[i] - stencil.laplacian(x, i);
       }
     }
-  }
+  });
   v_cycle(levels, l + 1);
   const double* correction = coarse.solution.data();
   double* solution = level.solution.data();
-#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
-  for (int r = 0; r < level.rows; ++r) {
+  for_each_row(level.rows, level.size(), [&](int r) {
     const double* from = correction + std::size_t(r / 2) * coarse.cols;
     double* to = solution + std::size_t(r) * cols;
     for (int c = 0; c < cols; ++c) to[c] += kCoarseCorrectionScale * from[c / 2];
-  }
+  });
   relax(level, 1);
   relax(level, 0);
 }
@@ -205,12 +210,11 @@ void v_cycle(std::vector<Level>& levels, std::size_t l) {
 // Row sums in parallel, then their total in row order: the same bits for any thread count.
 double dot(const Level& level, const double* a, const double* b, std::vector<double>& row_sums) {
   const std::ptrdiff_t cols = level.cols;
-#pragma omp parallel for schedule(dynamic, 16) if (level.size() >= kParallelCells)
-  for (int r = 0; r < level.rows; ++r) {
+  for_each_row(level.rows, level.size(), [&](int r) {
     double sum = 0.0;
     for (std::ptrdiff_t i = r * cols, end = i + cols; i < end; ++i) sum += a[i] * b[i];
     row_sums[std::size_t(r)] = sum;
-  }
+  });
   return in_row_order(row_sums);
 }
 
@@ -274,8 +278,7 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
       throw std::runtime_error("integrate_normals: the Poisson solve did not converge in " +
                                std::to_string(kMaxIterations) + " iterations");
     const double step = rz / apply(finest, p, lp, row_sums);
-#pragma omp parallel for schedule(dynamic, 16) if (size >= kParallelCells)
-    for (int row = 0; row < finest.rows; ++row) {
+    for_each_row(finest.rows, size, [&](int row) {
       double sum = 0.0;
       for (std::ptrdiff_t i = row * stride, end = i + stride; i < end; ++i) {
         x[i] += step * p[i];
@@ -283,7 +286,7 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
         sum += r[i] * r[i];
       }
       row_sums[std::size_t(row)] = sum;
-    }
+    });
     const double relative = std::sqrt(in_row_order(row_sums)) / b_norm;
     progress.report(std::clamp(std::log(std::max(relative, relative_tolerance)) / log_target, 0.0, 1.0),
                     "integration");
@@ -292,9 +295,9 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
     const double rz_next = dot(finest, r, z, row_sums);
     const double beta = rz_next / rz;
     rz = rz_next;
-#pragma omp parallel for schedule(dynamic, 16) if (size >= kParallelCells)
-    for (int row = 0; row < finest.rows; ++row)
+    for_each_row(finest.rows, size, [&](int row) {
       for (std::ptrdiff_t i = row * stride, end = i + stride; i < end; ++i) p[i] = z[i] + beta * p[i];
+    });
   }
   std::copy(x, x + size, depth.begin());
   return depth;

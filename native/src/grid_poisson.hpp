@@ -19,7 +19,7 @@ struct EdgeRises {
 /// i.e. solves the mask's graph-Laplacian system L z = div(rise). Iterates until the residual is at
 /// most `relative_tolerance` times the right-hand side's (the depth is then exact to about that
 /// relative precision). Each 4-connected component's depth is defined up to a constant, which this
-/// leaves arbitrary. Bit-identical for any number of OpenMP threads (sums are taken row by row,
+/// leaves arbitrary. Bit-identical for any number of threads (sums are taken row by row,
 /// then in row order).
 ///
 /// @param[in] mask     H x W.

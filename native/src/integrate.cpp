@@ -4,11 +4,13 @@
 
 #include "enum_names.hpp"
 #include "grid_poisson.hpp"
+#include "parallel.hpp"
 
-#include <opencv2/core.hpp>
+#include <unsupported/Eigen/FFT>
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -126,6 +128,29 @@ double angular_frequency(int k, int n) {
   return 2.0 * kPi * (2 * k < n ? k : k - n) / n;
 }
 
+enum class FourierDirection { Forward, Inverse };
+
+// The 2-D discrete Fourier transform of a rows x cols row-major field, in place: rows, then columns,
+// by Eigen's FFT (kissfft, header-only, any length). The inverse is scaled by 1 / (rows cols).
+void fourier_2d(std::vector<std::complex<double>>& field, int rows, int cols, FourierDirection direction) {
+  auto transform_lines = [&](int lines, int length, std::size_t line_step, std::size_t element_step) {
+    if (length == 1) return;  // the identity, and a length Eigen's kissfft cannot plan
+    detail::parallel_ranges(lines, 16, 0, [&](int begin, int end) {
+      Eigen::FFT<double> fft;  // caches twiddles: one per thread
+      std::vector<std::complex<double>> in(static_cast<std::size_t>(length)), out(in.size());
+      for (int line = begin; line < end; ++line) {
+        std::complex<double>* first = field.data() + std::size_t(line) * line_step;
+        for (int k = 0; k < length; ++k) in[std::size_t(k)] = first[std::size_t(k) * element_step];
+        if (direction == FourierDirection::Forward) fft.fwd(out, in);
+        else fft.inv(out, in);
+        for (int k = 0; k < length; ++k) first[std::size_t(k) * element_step] = out[std::size_t(k)];
+      }
+    });
+  };
+  transform_lines(rows, cols, std::size_t(cols), 1);
+  transform_lines(cols, rows, 1, std::size_t(cols));
+}
+
 // Frankot & Chellappa (1988): the depth whose Fourier-domain gradient is closest to (p, q), computed
 // over the whole rectangle with zero gradients outside the mask. The periodic Fourier basis cannot
 // hold a linear ramp, so the mean masked gradient is taken out first and added back as a plane;
@@ -150,51 +175,42 @@ std::vector<double> integrate_frankot_chellappa(Gradients gradients, const Mask&
   mean_p /= double(inside_count);
   mean_q /= double(inside_count);
 
-  cv::Mat p_field(rows, cols, CV_64F, cv::Scalar(0.0));
-  cv::Mat q_field(rows, cols, CV_64F, cv::Scalar(0.0));
-  for (int r = 0; r < rows; ++r) {
-    auto* p_row = p_field.ptr<double>(r);
-    auto* q_row = q_field.ptr<double>(r);
-    for (int c = 0; c < cols; ++c) {
-      const std::size_t i = std::size_t(r) * cols + c;
-      if (!inside[i]) continue;
-      p_row[c] = gradients.p[i] - mean_p;
-      q_row[c] = gradients.q[i] - mean_q;
-    }
+  // One complex transform carries both real fields: f = p + i q.
+  std::vector<std::complex<double>> field(pixel_count, 0.0);
+  for (std::size_t i = 0; i < pixel_count; ++i) {
+    if (inside[i]) field[i] = {gradients.p[i] - mean_p, gradients.q[i] - mean_q};
   }
   gradients = {};  // the spectra need the memory more
+  fourier_2d(field, rows, cols, FourierDirection::Forward);
 
-  cv::Mat p_spectrum;
-  cv::Mat q_spectrum;
-  cv::dft(p_field, p_spectrum, cv::DFT_COMPLEX_OUTPUT);
-  cv::dft(q_field, q_spectrum, cv::DFT_COMPLEX_OUTPUT);
-
-  cv::Mat z_spectrum(rows, cols, CV_64FC2);
+  std::vector<std::complex<double>> z_spectrum(pixel_count);
+  const std::complex<double> j(0.0, 1.0);
   for (int r = 0; r < rows; ++r) {
     const double wy = -angular_frequency(r, rows);  // y grows as the row index falls
-    const auto* p_row = p_spectrum.ptr<cv::Vec2d>(r);
-    const auto* q_row = q_spectrum.ptr<cv::Vec2d>(r);
-    auto* z_row = z_spectrum.ptr<cv::Vec2d>(r);
+    const int mirror_r = r == 0 ? 0 : rows - r;
     for (int c = 0; c < cols; ++c) {
       const double wx = angular_frequency(c, cols);
       const double norm = wx * wx + wy * wy;
+      const std::size_t i = std::size_t(r) * cols + c;
       if (norm == 0.0) {
-        z_row[c] = cv::Vec2d(0.0, 0.0);
+        z_spectrum[i] = 0.0;
         continue;
       }
-      // Z = (-j wx P - j wy Q) / (wx^2 + wy^2), with -j (a + j b) = b - j a.
-      const double re = wx * p_row[c][1] + wy * q_row[c][1];
-      const double im = -(wx * p_row[c][0] + wy * q_row[c][0]);
-      z_row[c] = cv::Vec2d(re / norm, im / norm);
+      // P and Q from F(k) and F(-k): p and q are real, so their spectra are Hermitian.
+      const std::complex<double> f = field[i];
+      const std::complex<double> f_mirror = std::conj(field[std::size_t(mirror_r) * cols + (c == 0 ? 0 : cols - c)]);
+      const std::complex<double> p_hat = 0.5 * (f + f_mirror), q_hat = -0.5 * j * (f - f_mirror);
+      z_spectrum[i] = -j * (wx * p_hat + wy * q_hat) / norm;
     }
   }
-
-  cv::Mat z_field;
-  cv::dft(z_spectrum, z_field, cv::DFT_INVERSE | cv::DFT_SCALE | cv::DFT_REAL_OUTPUT);
+  field = {};
+  fourier_2d(z_spectrum, rows, cols, FourierDirection::Inverse);
   for (int r = 0; r < rows; ++r) {
-    const auto* z_row = z_field.ptr<double>(r);
     const double y = -r;
-    for (int c = 0; c < cols; ++c) depth[std::size_t(r) * cols + c] = z_row[c] + mean_p * c + mean_q * y;
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = std::size_t(r) * cols + c;
+      depth[i] = z_spectrum[i].real() + mean_p * c + mean_q * y;
+    }
   }
   return depth;
 }

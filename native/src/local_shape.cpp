@@ -4,6 +4,7 @@
 #include <shadecut/validate.hpp>
 
 #include "masked_gradient.hpp"
+#include "parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,8 +27,7 @@ LocalShape local_shape(const ImageF& image, const Mask& mask, const LightFrame& 
   const double cos_ls = std::cos(light.slant), cos_lt = std::cos(light.tilt), sin_lt = std::sin(light.tilt);
   const double size = object_size(mask);
 
-#pragma omp parallel for schedule(static)
-  for (int r = 0; r < rows; ++r) {
+  detail::parallel_for(rows, 16, 0, [&](int r) {
     for (int c = 0; c < cols; ++c) {
       if (!mask(r, c)) continue;
       const double shading = std::clamp(double(image(r, c)) / albedo, 0.0, 1.0);
@@ -44,7 +44,7 @@ LocalShape local_shape(const ImageF& image, const Mask& mask, const LightFrame& 
       local.tilt(r, c) = float(std::atan2(iy * cos_lt - ix * sin_lt, cos_ls * (ix * cos_lt + iy * sin_lt)));
       local.tilt_defined(r, c) = true;
     }
-  }
+  });
   return local;
 }
 

@@ -1,5 +1,5 @@
-// Internal to the max-flow layer: the factories behind make_maxflow_solver and the input check the
-// solvers share. Not part of the public API.
+// Internal to the max-flow layer: the grid solver's factory and the input check that it shares with
+// the reference solvers (native/reference/). Not part of the public API.
 #pragma once
 
 #include <shadecut/grid_graph.hpp>
@@ -12,8 +12,6 @@
 namespace shadecut::maxflow_internal {
 
 std::unique_ptr<MaxFlowSolver> make_grid_solver();
-std::unique_ptr<MaxFlowSolver> make_opencv_solver();
-std::unique_ptr<MaxFlowSolver> make_boost_solver();
 
 /// Throws InvalidArgument unless rows, cols >= 0 and every capacity array has rows * cols entries.
 void check_shape(const GridGraph& graph);

@@ -12,9 +12,9 @@
 #include <shadecut/validate.hpp>
 
 #include "enum_names.hpp"
+#include "parallel.hpp"
 #include "stopwatch.hpp"
 
-#include <omp.h>
 
 namespace shadecut {
 
@@ -37,20 +37,6 @@ void check_options(const ReconstructOptions& options) {
     throw InvalidArgument("shadecut: labels must be at least " + std::to_string(kMinLabels) + " (got " +
                           std::to_string(options.labels) + ")");
 }
-
-// Sets the OpenMP thread count for one call and restores the caller's afterwards.
-class ThreadScope {
- public:
-  explicit ThreadScope(int threads) : saved_(omp_get_max_threads()) {
-    omp_set_num_threads(threads > 0 ? threads : saved_);
-  }
-  ~ThreadScope() { omp_set_num_threads(saved_); }
-  ThreadScope(const ThreadScope&) = delete;
-  ThreadScope& operator=(const ThreadScope&) = delete;
-
- private:
-  int saved_;
-};
 
 // The light frame and albedo used: given, or estimated from the image (an object's albedo with its
 // estimated light; otherwise estimate_albedo's, or a relief's median). `brightest` is the largest
@@ -113,7 +99,7 @@ GlobalStepParams global_step_params(const ReconstructOptions& options) {
   params.energy.data_weight = options.data_weight;
   params.energy.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight);
   params.energy.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
-  params.energy.threads = omp_get_max_threads();
+  params.energy.threads = detail::default_thread_count();
   params.min_curvature = options.min_curvature.value_or(defaults.min_curvature);
   params.max_cycles = options.max_cycles;
   params.tolerance = options.tolerance.value_or(defaults.tolerance);
@@ -127,7 +113,7 @@ namespace {
 
 NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
                             const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
-  const auto solver = make_maxflow_solver(MaxFlowKind::Grid);
+  const auto solver = make_maxflow_solver();
   GlobalStepResult solved = global_step(image, mask, frame, albedo, global_step_params(options), *solver, progress);
   for (const auto& [stage, seconds] : solved.seconds) stats.seconds[stage] = seconds;
   stats.allowed_label_fraction = solved.allowed_label_fraction;
@@ -222,7 +208,7 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   Reconstruction result;
   result.mask = mask;
   const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
-  const ThreadScope threads(options.threads);
+  const detail::ThreadCountScope threads(options.threads);
   result.normals = solve_normals(image, mask, frame, result.albedo, options, progress.range(0.0, kNormalsShare), result.stats);
 
   progress.report(kNormalsShare, "integration");

@@ -2,7 +2,7 @@
 
 #include <shadecut/errors.hpp>
 
-#include <omp.h>
+#include "parallel.hpp"
 
 #include <algorithm>
 #include <array>
@@ -106,13 +106,12 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
   // all labels.
   const bool banded = params.band >= 0 && params.band_centre;
   planes_ = !banded || (2 * params.band + 1 >= k_count && !params.band_frozen);
-  const int threads = params.threads > 0 ? params.threads : omp_get_max_threads();
+  const int threads = params.threads > 0 ? params.threads : detail::default_thread_count();
   if (!planes_) {
     window_first_.assign(std::size_t(n), 0);
     window_begin_.assign(std::size_t(n) + 1, 0);
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-    for (int p = 0; p < n; ++p) {
-      if (!mask_.data()[p]) continue;
+    detail::parallel_for(n, 256, threads, [&](int p) {
+      if (!mask_.data()[p]) return;
       int width = k_count;
       const int centre = (*params.band_centre)[std::size_t(p)];
       if (centre >= 0) {
@@ -126,15 +125,14 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
         }
       }
       window_begin_[std::size_t(p) + 1] = width;
-    }
+    });
     for (int p = 0; p < n; ++p) window_begin_[std::size_t(p) + 1] += window_begin_[std::size_t(p)];
   }
 
   convex_tilt_.assign(std::size_t(n), std::numeric_limits<float>::quiet_NaN());
   data_cost_.assign(planes_ ? std::size_t(n) * k_count : std::size_t(window_begin_.back()), kProhibited);
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads)
-  for (int p = 0; p < n; ++p) {
-    if (!mask_.data()[p]) continue;
+  detail::parallel_for(n, 256, threads, [&](int p) {
+    if (!mask_.data()[p]) return;
     const PixelTerms terms = pixel_terms(p);
     if (terms.defined) convex_tilt_[std::size_t(p)] = float(terms.t + M_PI);
     const int first = planes_ ? 0 : window_first_[std::size_t(p)];
@@ -173,7 +171,7 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
       }
     }
     for (int j = 0; j < width; ++j) data_cost_[std::size_t(slot(p, label_at(j)))] = cost[j];
-  }
+  });
 }
 
 double TiltEnergy::energy(const std::vector<int>& labelling) const {

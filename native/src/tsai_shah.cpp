@@ -3,6 +3,8 @@
 #include <shadecut/errors.hpp>
 #include <shadecut/validate.hpp>
 
+#include "parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -26,8 +28,7 @@ TsaiShahResult tsai_shah(const ImageF& image, const Mask& mask, const LightFrame
 
   for (int iteration = 0; iteration < iterations; ++iteration) {
     previous.swap(result.depth);
-#pragma omp parallel for schedule(static)
-    for (int r = 0; r < rows; ++r) {
+    detail::parallel_for(rows, 16, 0, [&](int r) {
       for (int c = 0; c < cols; ++c) {
         if (!mask(r, c)) continue;
         const double z = previous(r, c);
@@ -47,7 +48,7 @@ TsaiShahResult tsai_shah(const ImageF& image, const Mask& mask, const LightFrame
         const double residual = image(r, c) / albedo - reflectance;
         result.depth(r, c) = float(std::abs(derivative) > 1e-9 ? z + residual / derivative : z);
       }
-    }
+    });
     result.iterations = iteration + 1;
     if ((iteration + 1) % report_every == 0) progress.report(double(iteration + 1) / iterations, "tsai_shah");
   }

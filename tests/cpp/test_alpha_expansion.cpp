@@ -6,6 +6,8 @@
 #include <shadecut/local_shape.hpp>
 #include <shadecut/tilt_energy.hpp>
 
+#include <reference_maxflow.hpp>
+
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -60,7 +62,7 @@ class ColdGridSolver final : public MaxFlowSolver {
   double solve(GridGraph& graph, std::vector<std::uint8_t>& sink_side) override { return grid_->solve(graph, sink_side); }
 
  private:
-  std::unique_ptr<MaxFlowSolver> grid_ = make_maxflow_solver(MaxFlowKind::Grid);
+  std::unique_ptr<MaxFlowSolver> grid_ = make_maxflow_solver();
 };
 
 // Kept flows, warm starts and sparse repairs find the same minimum cut as a cold cut of every move
@@ -74,7 +76,7 @@ TEST(AlphaExpansion, KeptFlowsFindTheSameMovesAsColdCuts) {
     const Problem problem = make_problem(scene, light, DataTerm::Soft, 0.2);
     std::vector<int> warm_labelling = problem.energy.convex_labelling();
     std::vector<int> cold_labelling = warm_labelling;
-    const auto grid = make_maxflow_solver(MaxFlowKind::Grid);
+    const auto grid = make_maxflow_solver();
     ColdGridSolver cold;
     const AlphaExpansionStats warm_stats = alpha_expansion(problem.energy, warm_labelling, *grid, 20);
     const AlphaExpansionStats cold_stats = alpha_expansion(problem.energy, cold_labelling, cold, 20);
@@ -97,7 +99,7 @@ TEST(ConvexityCut, TurnsTheBowlConcaveAndLowersTheEnergy) {
   const Problem problem = make_problem(bowl, light, DataTerm::TwoCandidates);
   std::vector<int> labelling = problem.energy.convex_labelling();
   const double before = problem.energy.energy(labelling);
-  const auto solver = make_maxflow_solver(MaxFlowKind::Grid);
+  const auto solver = make_maxflow_solver();
   convexity_cut(problem.energy, problem.local, labelling, *solver);
   EXPECT_LT(problem.energy.energy(labelling), before);
   int concave = 0, decided = 0;

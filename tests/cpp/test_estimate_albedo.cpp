@@ -7,8 +7,10 @@
 #include <shadecut/shadow_fill.hpp>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <random>
 
 namespace shadecut {
 namespace {
@@ -40,6 +42,31 @@ TEST(EstimateAlbedo, TopFitIsExactOnACleanSphereAndBrightestOnlyThere) {
   EXPECT_GT(estimate_albedo(shiny, scene.mask, AlbedoMethod::Brightest), 0.9);
   // Measured 0.276: the fit's window reaches the limb under this 45-degree light (estimate_albedo.hpp).
   EXPECT_NEAR(estimate_albedo(shiny, scene.mask, AlbedoMethod::TopFit), 0.3, 0.03);
+}
+
+// brightest is the largest 3 x 3 median inside the mask; OpenCV's medianBlur (border replicated), on
+// which the core relied before it had its own filter, is the reference. Single-pixel highlights and
+// a highlight on the border are what the median has to remove.
+TEST(EstimateAlbedo, BrightestIsTheLargestMedianOfOpenCVsFilter) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> value(0.0f, 0.5f);
+  for (const auto& [rows, cols] : {std::pair{2, 2}, std::pair{2, 7}, std::pair{5, 2}, std::pair{37, 53}}) {
+    ImageF image(rows, cols);
+    for (Eigen::Index i = 0; i < image.size(); ++i) image.data()[i] = value(random);
+    image(0, 0) = 1.0f;
+    image(rows / 2, cols / 2) = 0.9f;
+    Mask mask(rows, cols);
+    for (Eigen::Index i = 0; i < mask.size(); ++i) mask.data()[i] = i % 3 != 1;
+    cv::Mat source(rows, cols, CV_32F), filtered;
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) source.at<float>(r, c) = image(r, c);
+    cv::medianBlur(source, filtered, 3);
+    float expected = 0.0f;
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c)
+        if (mask(r, c)) expected = std::max(expected, filtered.at<float>(r, c));
+    EXPECT_EQ(estimate_albedo(image, mask, AlbedoMethod::Brightest), expected) << rows << " x " << cols;
+  }
 }
 
 TEST(EstimateAlbedo, RejectsABadWindowAndADarkImage) {

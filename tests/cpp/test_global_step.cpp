@@ -6,6 +6,8 @@
 #include <shadecut/reconstruct.hpp>
 #include <shadecut/tilt_energy.hpp>
 
+#include <reference_maxflow.hpp>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -120,7 +122,7 @@ TEST(GlobalStep, CoarseToFineReachesNearlyTheExactEnergyAndAccuracy) {
   GlobalStepParams params;
   params.energy.data_weight = 0.2;
   params.energy.undefined_weight = 0.5;
-  const auto solver = make_maxflow_solver(MaxFlowKind::Grid);
+  const auto solver = make_maxflow_solver();
   const GlobalStepResult exact = global_step(scene.image, scene.mask, frame, 1.0, params, *solver);
   params.band = 1;
   const GlobalStepResult fast = global_step(scene.image, scene.mask, frame, 1.0, params, *solver);
@@ -163,7 +165,7 @@ TEST(GlobalStep, OnTheTestBumpsTheTruthCostsMoreThanTheLabellingFound) {
   params.energy.data_weight = ReconstructOptions().data_weight;
   params.energy.undefined_weight = defaults.undefined_weight;
   params.min_curvature = defaults.min_curvature;
-  const auto solver = make_maxflow_solver(MaxFlowKind::Grid);
+  const auto solver = make_maxflow_solver();
   const GlobalStepResult found = global_step(scene.image, scene.mask, frame, 1.0, params, *solver);
 
   const LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, params.min_curvature);

@@ -4,9 +4,10 @@
 #include <shadecut/integrate.hpp>
 #include <shadecut/mask_components.hpp>
 
+#include "parallel.hpp"
+
 #include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -122,16 +123,15 @@ TEST(IntegratePoisson, EqualsTheDirectSparseSolve) {
   }
 }
 
+// Large enough (> 2^18 cells) that the finest level runs in parallel.
 TEST(IntegratePoisson, OneThreadAndTwoGiveTheSameBits) {
-  const NormalMap normals = random_normals(203, 157, 7);
-  const Mask mask = holes_and_islands(203, 157);
-  const int saved = omp_get_max_threads();
-  omp_set_num_threads(1);
-  const ImageF one = shadecut::integrate_normals(normals, mask, Integrator::Poisson);
-  omp_set_num_threads(2);
-  const ImageF two = shadecut::integrate_normals(normals, mask, Integrator::Poisson);
-  omp_set_num_threads(saved);
-  EXPECT_TRUE((one == two).all());
+  const NormalMap normals = random_normals(600, 480, 7);
+  const Mask mask = holes_and_islands(600, 480);
+  auto integrate_on = [&](int threads) {
+    const shadecut::detail::ThreadCountScope scope(threads);
+    return ImageF(shadecut::integrate_normals(normals, mask, Integrator::Poisson));
+  };
+  EXPECT_TRUE((integrate_on(1) == integrate_on(2)).all());
 }
 
 TEST(IntegratePoisson, ReportsProgressAndCanBeCancelled) {

@@ -1,26 +1,14 @@
-// Minimum s-t cut on a GridGraph, behind one small interface so the solvers can be swapped, compared
-// and benchmarked side by side.
+// Minimum s-t cut on a GridGraph, behind one small interface so that the tests and benchmarks can put
+// reference solvers beside the core's.
 #pragma once
 
 #include <shadecut/grid_graph.hpp>
 
 #include <cstdint>
 #include <memory>
-#include <string>
 #include <vector>
 
 namespace shadecut {
-
-/// Which maximum-flow implementation solves the expansion moves.
-enum class MaxFlowKind {
-  Grid,    ///< ShadeCut's Boykov-Kolmogorov solver specialized to the 4-connected grid.
-  OpenCV,  ///< cv::detail::GCGraph (Boykov-Kolmogorov on a general adjacency list).
-  Boost,   ///< boost::boykov_kolmogorov_max_flow on a boost::adjacency_list.
-};
-
-/// Parses "grid", "opencv" or "boost"; throws InvalidArgument otherwise.
-MaxFlowKind parse_maxflow_kind(const std::string& name);
-std::string to_string(MaxFlowKind kind);
 
 /// A reusable maximum-flow solver. Implementations keep their buffers between calls, so one solver
 /// serves all moves of an alpha-expansion without reallocating.
@@ -42,7 +30,8 @@ class MaxFlowSolver {
   virtual bool leaves_residuals() const { return false; }
 };
 
-/// Creates a solver of the given kind.
-std::unique_ptr<MaxFlowSolver> make_maxflow_solver(MaxFlowKind kind);
+/// Creates ShadeCut's Boykov-Kolmogorov solver specialized to the 4-connected grid. (The general
+/// graph solvers it is tested and benchmarked against live in native/reference/, outside the core.)
+std::unique_ptr<MaxFlowSolver> make_maxflow_solver();
 
 }  // namespace shadecut

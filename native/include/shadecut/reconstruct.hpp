@@ -56,7 +56,7 @@ MethodDefaults method_defaults(Method method);
 
 /// The fewest tilt labels the energy can be built with.
 constexpr int kMinLabels = 4;
-/// The most OpenMP threads a call may ask for: more than the machine has only costs memory.
+/// The most threads a call may ask for: more than the machine has only costs memory.
 constexpr int kMaxThreads = 256;
 
 /// Every setting of reconstruct(), with its default: the one place defaults are held. The Python
@@ -129,7 +129,8 @@ struct Reconstruction {
 
 
 /// What reconstruct() hands global_step for the graph-cut methods (graphcut, graphcut_two): the
-/// options' values, method_defaults where they are unset, all of OpenMP's threads.
+/// options' values, method_defaults where they are unset, and the thread count of the reconstruct()
+/// in progress (every core outside one).
 GlobalStepParams global_step_params(const ReconstructOptions& options);
 
 /// Reconstructs normals and depth from one Lambertian image.

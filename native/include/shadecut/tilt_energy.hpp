@@ -33,7 +33,7 @@ struct TiltEnergyParams {
   /// there) settles what the neighbours leave open: R_p(theta) = w 2 sin(s_p) sin(|theta - pi| / 2).
   double undefined_weight = 0.0;
   DataTerm data_term = DataTerm::Soft;
-  int threads = 0;             ///< OpenMP threads for building the tables; 0 = all cores
+  int threads = 0;             ///< threads for building the tables; 0 = all cores
   /// Coarse to fine: with band >= 0, a masked pixel p with (*band_centre)[p] >= 0 (a label, one per
   /// pixel, row-major) keeps only the labels within `band` label steps of it (circularly), unless none
   /// of them is allowed there: then it keeps them all. Null or band < 0: every label.
