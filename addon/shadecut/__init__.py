@@ -2,7 +2,8 @@
 
 The conventions (image axes, camera frame, light direction, depth sign) are those of the project
 README. Importing this package never needs Blender's ``bpy``: the add-on's own modules (the
-``blender`` subpackage) are imported only when Blender calls :func:`register`.
+``blender`` subpackage, or ``unavailable`` where the compiled module cannot load) are imported only
+when Blender calls :func:`register`.
 """
 
 bl_info = {
@@ -15,53 +16,71 @@ bl_info = {
     "category": "3D View",
 }
 
-from .api import (
-    LIGHT_METHODS,
-    METHODS,
-    MAX_THREADS,
-    MIN_LABELS,
-    OPTION_NAMES,
-    SceneKind,
-    AlbedoMethod,
-    Cancelled,
-    Integrator,
-    LightMethod,
-    LoadedImage,
-    Method,
-    Reconstruction,
-    ReconstructOptions,
-    ReconstructStats,
-    angular_error,
-    angular_error_map,
-    erode_mask,
-    mask_components,
-    estimate_albedo,
-    estimate_light,
-    height_field_mesh,
-    fold_back_facing,
-    integrate,
-    light_direction,
-    load_image,
-    normals_from_depth,
-    reconstruct,
-    render,
-    save_depth,
-    save_image,
-    save_mesh,
-    save_normals,
-)
+import sys
+
+from .compatibility import core_problem
+
+# In Blender, a _core that cannot load here leaves the add-on a notice (see register) rather than a
+# traceback; anywhere else `import shadecut` fails with the same sentence (raised by api).
+_CORE_PROBLEM = core_problem()
+if _CORE_PROBLEM is None or "bpy" not in sys.modules:
+    from .api import (
+        LIGHT_METHODS,
+        METHODS,
+        MAX_THREADS,
+        MIN_LABELS,
+        OPTION_NAMES,
+        SceneKind,
+        AlbedoMethod,
+        Cancelled,
+        Integrator,
+        LightMethod,
+        LoadedImage,
+        Method,
+        Reconstruction,
+        ReconstructOptions,
+        ReconstructStats,
+        angular_error,
+        angular_error_map,
+        erode_mask,
+        mask_components,
+        estimate_albedo,
+        estimate_light,
+        height_field_mesh,
+        fold_back_facing,
+        integrate,
+        light_direction,
+        load_image,
+        normals_from_depth,
+        reconstruct,
+        render,
+        save_depth,
+        save_image,
+        save_mesh,
+        save_normals,
+    )
 
 __version__ = "0.1.0"
 
 
 def register() -> None:
     """Called by Blender when the add-on is enabled."""
+    if _CORE_PROBLEM is not None:
+        from . import unavailable
+
+        unavailable.register(_CORE_PROBLEM)
+        return
     from . import blender
 
     blender.register()
 
 
 def unregister() -> None:
+    if _CORE_PROBLEM is not None:
+        from . import unavailable
+
+        unavailable.unregister()
+        return
     from . import blender
 
     blender.unregister()

@@ -30,7 +30,6 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
-from .. import dataset
 from ..api import light_direction
 from . import frames
 
@@ -70,7 +69,7 @@ class LambertianRender:
 
     def write(self, folder) -> None:
         """Writes the sample folder (image.exr/.png, normals.exr, depth.exr, mask.png, meta.json)."""
-        dataset.write_sample(folder, image=self.image, normals=self.normals, depth=self.depth, mask=self.mask,
+        _dataset().write_sample(folder, image=self.image, normals=self.normals, depth=self.depth, mask=self.mask,
                              light=self.light, albedo=self.albedo, meta=self.meta, shadow_mask=self.shadow_mask,
                              albedo_map=self.albedo_map)
 
@@ -204,8 +203,20 @@ def _own_colour_material(material: Optional[bpy.types.Material]):
     return copy
 
 
+def _dataset():
+    """shadecut.dataset, whose files go through OpenImageIO (its Python module and shadecut._imageio):
+    there in Debian's Blender with a source build, not in the add-on's zip (docs/portable_addon.md)."""
+    try:
+        from .. import _imageio, dataset  # noqa: F401  (_imageio: the writer's, checked here to fail early)
+    except ImportError as error:
+        raise RenderError("rendering test images needs OpenImageIO (its Python module and shadecut's "
+                          f"_imageio), which this installation lacks ({error}); see docs/portable_addon.md") from error
+    return dataset
+
+
 def _read_passes(path: Path) -> dict:
     """The multilayer EXR Cycles wrote, as {"Combined.R": (H, W) array, ...}, row 0 at the top."""
+    dataset = _dataset()
     try:
         pixels, names = dataset.read_image_channels(path)
     except OSError as error:
