@@ -3,7 +3,8 @@
     xvfb-run -a blender --factory-startup --enable-event-simulate -P tests/blender/ui_session.py
 
 Checks that the reconstruction runs on a worker thread while Blender keeps handling events, that
-one undo step removes the result, and that Esc cancels cleanly. Blender's exit code is the result:
+one undo step removes the result, that Esc cancels cleanly, and that one undo step takes the maps out
+of the active object's material again. Blender's exit code is the result:
 timers.py (next to this script) ends the process with the script's outcome.
 """
 
@@ -102,7 +103,37 @@ def steps():
     assert meshes() == before, f"cancelling left {meshes() - before}"
     assert state["fractions"][-1] < 1.0, "Esc came too late to cancel"
     print(f"ui: Esc cancelled at {state['fractions'][-1]:.2f}, nothing added")
+    state["hold"] = False
+
+    # Apply to: Active object changes the user's own material; one undo step gives it back.
+    bpy.context.view_layer.objects.active = bpy.data.objects["Cube"]
+    settings = bpy.context.scene.shadecut  # the earlier undo rebuilt the scene's data
+    settings.target, settings.normal_map, settings.height_map = "ACTIVE_MATERIAL", True, True
+    bpy.ops.ed.undo_push(message="ShadeCut test: before applying")
+    own_nodes, own_images = nodes(), images()
+    with bpy.context.temp_override(**view3d_override()):
+        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+    ticks_at_start = state["ticks"]
+    while nodes() == own_nodes:
+        yield
+        assert state["ticks"] - ticks_at_start < 600, "the maps did not reach the active object's material in 60 s"
+    print(f"ui: maps applied to the cube's material: {len(nodes()) - len(own_nodes)} nodes added")
+    with bpy.context.temp_override(**view3d_override()):
+        bpy.ops.ed.undo()
+    yield
+    assert nodes() == own_nodes, f"undo left the material with {sorted(set(nodes()) - set(own_nodes))}"
+    assert images() == own_images, f"undo left {images() - own_images}"
+    print("ui: one undo step gave the cube its own material back")
     print("ui: all checks passed")
+
+
+def nodes() -> list:
+    """The node names of the cube's material (looked up anew: undo rebuilds the data)."""
+    return sorted(node.name for node in bpy.data.objects["Cube"].active_material.node_tree.nodes)
+
+
+def images() -> set:
+    return {image.name for image in bpy.data.images}
 
 
 def any_running() -> bool:
