@@ -47,6 +47,7 @@ options:
        << choices(shadecut::light_method_names()) << " (default " << shadecut::to_string(defaults.light_method) << R"()
   --scene NAME         )" << choices(shadecut::scene_kind_names()) << " (default " << shadecut::to_string(defaults.scene) << R"(): an object seen
                        whole, or a relief filling the frame (a wall, a coin) that sits flat, no ramp
+  --seamless           with --scene relief: depth and normals that tile (a seamless texture)
   --out DIR            output folder (default shadecut_out)
   --method NAME        )" << choices(shadecut::method_names()) << " (default " << shadecut::to_string(defaults.method) << R"()
   --albedo A           albedo (default: read from the shading, robust to highlights)
@@ -174,6 +175,8 @@ int main(int argc, char** argv) {
         options.threads = parse_integer(arg, value());
       } else if (arg == "--quiet") {
         quiet = true;
+      } else if (arg == "--seamless") {
+        options.seamless = true;
       } else if (!arg.empty() && arg[0] == '-') {
         fail("unknown option " + arg);
       } else if (image_path.empty()) {

@@ -109,6 +109,7 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "fill_shadows", &ReconstructOptions::fill_shadows);
   option(options, names, "shadow_threshold", &ReconstructOptions::shadow_threshold);
   option(options, names, "occluding_contour", &ReconstructOptions::occluding_contour);
+  option(options, names, "seamless", &ReconstructOptions::seamless);
   option(options, names, "threads", &ReconstructOptions::threads);
   m.attr("OPTION_NAMES") = py::tuple(py::cast(names));
   m.attr("MIN_LABELS") = kMinLabels;

@@ -153,9 +153,9 @@ void fourier_2d(std::vector<std::complex<double>>& field, int rows, int cols, Fo
 
 // Frankot & Chellappa (1988): the depth whose Fourier-domain gradient is closest to (p, q), computed
 // over the whole rectangle with zero gradients outside the mask. The periodic Fourier basis cannot
-// hold a linear ramp, so the mean masked gradient is taken out first and added back as a plane;
-// without that a tilted plane would come out flat.
-std::vector<double> integrate_frankot_chellappa(Gradients gradients, const Mask& mask) {
+// hold a linear ramp, so the mean masked gradient is taken out first and, with keep_ramp, added back
+// as a plane; without that a tilted plane would come out flat (and the depth tiles).
+std::vector<double> integrate_frankot_chellappa(Gradients gradients, const Mask& mask, bool keep_ramp) {
   const int rows = int(mask.rows());
   const int cols = int(mask.cols());
   const std::size_t pixel_count = std::size_t(rows) * cols;
@@ -209,7 +209,7 @@ std::vector<double> integrate_frankot_chellappa(Gradients gradients, const Mask&
     const double y = -r;
     for (int c = 0; c < cols; ++c) {
       const std::size_t i = std::size_t(r) * cols + c;
-      depth[i] = z_spectrum[i].real() + mean_p * c + mean_q * y;
+      depth[i] = z_spectrum[i].real() + (keep_ramp ? mean_p * c + mean_q * y : 0.0);
     }
   }
   return depth;
@@ -250,9 +250,17 @@ ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator 
     case Integrator::Poisson:
       return shift_components_to_zero(integrate_poisson(gradients, mask, progress), components);
     case Integrator::FrankotChellappa:
-      return shift_components_to_zero(integrate_frankot_chellappa(std::move(gradients), mask), components);
+      return shift_components_to_zero(integrate_frankot_chellappa(std::move(gradients), mask, true), components);
   }
   throw InvalidArgument("integrate_normals: unknown integrator " + std::to_string(int(method)));
+}
+
+ImageF integrate_periodic(const NormalMap& normals, double max_slope) {
+  const Mask everywhere = Mask::Constant(normals.rows, normals.cols, true);
+  validate(normals, everywhere, max_slope);
+  const std::vector<double> depth =
+      integrate_frankot_chellappa(surface_gradients(normals, everywhere, max_slope), everywhere, false);
+  return shift_components_to_zero(depth, mask_components(everywhere));
 }
 
 }  // namespace shadecut

@@ -29,13 +29,18 @@ bool edge_is_outline(const ReconstructOptions& options) {
   return options.occluding_contour && options.scene == SceneKind::Object;
 }
 
-void check_options(const ReconstructOptions& options) {
+void check_options(const ReconstructOptions& options, const Mask& mask) {
   if (options.threads < 0 || options.threads > kMaxThreads)
     throw InvalidArgument("shadecut: threads must be in 0 .. " + std::to_string(kMaxThreads) + " (0 = all cores); got " +
                           std::to_string(options.threads));
   if (options.labels < kMinLabels)
     throw InvalidArgument("shadecut: labels must be at least " + std::to_string(kMinLabels) + " (got " +
                           std::to_string(options.labels) + ")");
+  if (options.seamless && options.scene != SceneKind::Relief)
+    throw InvalidArgument("shadecut: seamless output is for reliefs that fill the image; set scene to relief");
+  if (options.seamless && !mask.all())
+    throw InvalidArgument("shadecut: seamless output tiles the whole image, but the mask leaves " +
+                          std::to_string(mask.size() - mask.count()) + " pixels out; give no mask");
 }
 
 // The light frame and albedo used: given, or estimated from the image (an object's albedo with its
@@ -198,7 +203,7 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);
   check_mask(mask, image);
   if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
-  check_options(options);
+  check_options(options, mask);
   // Cheap, and before the estimates that cost a pass of median filtering over the image.
   const float brightest = mask.select(image, 0.0f).maxCoeff();
   if (!(brightest > 0.0f))
@@ -217,9 +222,15 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   const Mask unreliable = unreliable_pixels(image, mask, result.albedo, shadow_threshold, options.highlight_threshold);
   result.stats.shadow_pixels = fill_normals(result.normals, unreliable, mask, edge_is_outline(options));
   fold_back_facing(result.normals, mask);
-  result.depth = integrate_normals(result.normals, mask, options.integrator, options.max_slope,
-                                   progress.range(kNormalsShare, 1.0));
-  if (options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);
+  if (options.seamless) {
+    // A tiling surface has no ramp to flatten: its mean gradient is dropped by the integration.
+    result.depth = integrate_periodic(result.normals, options.max_slope);
+    result.normals = normals_from_periodic_depth(result.depth);
+  } else {
+    result.depth = integrate_normals(result.normals, mask, options.integrator, options.max_slope,
+                                     progress.range(kNormalsShare, 1.0));
+    if (options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);
+  }
   result.stats.seconds["integration"] = integration.seconds();
   progress.report(1.0, "integration");
   result.stats.seconds["total"] = total.seconds();

@@ -25,6 +25,22 @@ NormalMap normals_from_depth(const ImageF& depth, const Mask& mask) {
   return normals;
 }
 
+NormalMap normals_from_periodic_depth(const ImageF& depth) {
+  check_image(depth, "depth map");
+  const int rows = int(depth.rows()), cols = int(depth.cols());
+  NormalMap normals(rows, cols);
+  for (int r = 0; r < rows; ++r) {
+    const int up = (r + rows - 1) % rows, down = (r + 1) % rows;
+    for (int c = 0; c < cols; ++c) {
+      const int left = (c + cols - 1) % cols, right = (c + 1) % cols;
+      const double dx = 0.5 * (double(depth(r, right)) - depth(r, left));
+      const double dy = 0.5 * (double(depth(up, c)) - depth(down, c));  // y grows upward
+      normals.xyz.row(Eigen::Index(r) * cols + c) = Eigen::Vector3d(-dx, -dy, 1.0).normalized().cast<float>();
+    }
+  }
+  return normals;
+}
+
 ImageF render_lambertian(const NormalMap& normals, const Eigen::Vector3d& light, double albedo, const Mask& mask) {
   if (!(albedo >= 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and >= 0");
   check_mask_fits(mask, normals);

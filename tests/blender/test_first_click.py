@@ -2,6 +2,7 @@
 camera): defaults that succeed, results at the 3-D cursor that never take over earlier ones, a clear
 report for a lamp that is not a Sun, and a panel in artist words."""
 
+import itertools
 import re
 import types
 
@@ -214,8 +215,8 @@ def test_the_research_settings_are_in_a_closed_advanced_sub_panel(factory_scene,
     advanced = drawn_settings(panels.draw_advanced_settings, settings)
     assert RESEARCH_SETTINGS <= set(advanced)
     main = set()
-    for light_source in ("ESTIMATE", "OBJECT", "DIRECTION"):
-        settings.light_source, settings.frame = light_source, "CAMERA"
+    for scene_kind, light_source in itertools.product(("object", "relief"), ("ESTIMATE", "OBJECT", "DIRECTION")):
+        settings.scene, settings.light_source, settings.frame = scene_kind, light_source, "CAMERA"
         drawn = drawn_settings(panels.draw_reconstruct_settings, settings)
         assert drawn[0] == "scene"  # what the image shows comes first
         main |= set(drawn)

@@ -1,5 +1,6 @@
 #include <shadecut/errors.hpp>
 #include <shadecut/integrate.hpp>
+#include <shadecut/render.hpp>
 
 #include <gtest/gtest.h>
 
@@ -8,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -311,3 +313,44 @@ TEST(Integrate, RejectsBadInputs) {
 }
 
 }  // namespace
+
+namespace {
+
+// The largest step between neighbours across the image's wrap-around edges, and inside it.
+std::pair<double, double> seam_and_inner_steps(const ImageF& depth) {
+  const Eigen::Index rows = depth.rows(), cols = depth.cols();
+  const double seam = std::max((depth.col(0) - depth.col(cols - 1)).abs().maxCoeff(),
+                               (depth.row(0) - depth.row(rows - 1)).abs().maxCoeff());
+  const double inner = std::max((depth.rightCols(cols - 1) - depth.leftCols(cols - 1)).abs().maxCoeff(),
+                                (depth.bottomRows(rows - 1) - depth.topRows(rows - 1)).abs().maxCoeff());
+  return {seam, inner};
+}
+
+}  // namespace
+
+// Waves of whole periods on a ramp: the waves come back, the ramp (which no tiling surface has) is
+// dropped, and the depth and the normals made from it step across the image's edges no more than
+// between neighbours inside.
+TEST(IntegratePeriodic, RecoversTheTilingPartAndTiles) {
+  constexpr int kRows = 96, kCols = 128;
+  const Surface waves = periodic_waves_and_bump(kRows, kCols);
+  const Surface on_ramp{[&](double x, double y) { return waves.depth(x, y) + 0.3 * x - 0.2 * y; },
+                        [&](double x, double y, double& p, double& q) {
+                          waves.gradient(x, y, p, q);
+                          p += 0.3, q -= 0.2;
+                        }};
+  const Mask all = Mask::Constant(kRows, kCols, true);
+  const ImageF depth = shadecut::integrate_periodic(exact_normals(on_ramp, kRows, kCols));
+  const double error = max_abs_difference(depth, shifted_truth(true_depth(waves, kRows, kCols), all));
+  RecordProperty("max_error", std::to_string(error));
+  EXPECT_LE(error, 2e-4);
+  EXPECT_EQ(depth.minCoeff(), 0.0f);
+  const auto [seam, inner] = seam_and_inner_steps(depth);
+  EXPECT_LE(seam, inner);
+
+  const NormalMap normals = shadecut::normals_from_periodic_depth(depth);
+  ImageF nx(kRows, kCols);
+  for (Eigen::Index i = 0; i < nx.size(); ++i) nx.data()[i] = normals.xyz(i, 0);
+  const auto [normal_seam, normal_inner] = seam_and_inner_steps(nx);
+  EXPECT_LE(normal_seam, normal_inner);
+}

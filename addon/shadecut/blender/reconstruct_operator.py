@@ -306,8 +306,11 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
     method = settings.method
     if method == "DEFAULT":
         method = preferences.default_method if preferences else api.ReconstructOptions().method.name
+    seamless = settings.seamless and settings.scene == "relief"
+    if seamless:
+        mask = np.ones_like(mask)  # a tiling surface covers the whole image
     options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,
-                   integrator=settings.integrator, threads=preferences.threads if preferences else 0)
+                   integrator=settings.integrator, seamless=seamless, threads=preferences.threads if preferences else 0)
     return Job(
         name=Path(source.name).stem or source.name,
         image=image,

@@ -60,4 +60,15 @@ int fold_back_facing(NormalMap& normals, const Mask& mask);
 ImageF integrate_normals(const NormalMap& normals, const Mask& mask, Integrator method, double max_slope = 10.0,
                          const Progress& progress = {});
 
+/// The depth that tiles: its left column continues into its right one, its top row into its bottom
+/// (seamless textures). Frankot-Chellappa over the whole frame, which is least squares on the torus,
+/// without the plane integrate_normals keeps: the mean gradient, which no tiling surface has, is
+/// dropped.
+///
+/// @param[in] normals   H x W unit normals, camera frame; every pixel is used.
+/// @param[in] max_slope bound on |p| and |q| as for integrate_normals.
+/// @return H x W depth in pixel units, larger = closer, minimum 0, periodic in both directions.
+/// @throws InvalidArgument as integrate_normals does.
+ImageF integrate_periodic(const NormalMap& normals, double max_slope = 10.0);
+
 }  // namespace shadecut

@@ -96,6 +96,10 @@ struct ReconstructOptions {
   bool fill_shadows = true;                 ///< interpolate normals in attached shadows (fill_normals)
   double shadow_threshold = 1e-3;           ///< relative intensity at or below which a pixel is in shadow
   bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling (objects)
+  /// Reliefs over the whole image: depth and normals that tile, the image's opposite edges meeting
+  /// (integrate_periodic, normals_from_periodic_depth), for seamless textures. Needs scene = Relief
+  /// and no mask, or one that covers every pixel; the integrator setting is then not used.
+  bool seamless = false;
   int threads = 0;                          ///< 0 = all cores
   /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
   /// "graphcut", "brooks_horn", "tsai_shah", "integration". Returning false cancels.

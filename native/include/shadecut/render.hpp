@@ -15,6 +15,13 @@ namespace shadecut {
 /// @return normals, (0, 0, 0) outside the mask.
 NormalMap normals_from_depth(const ImageF& depth, const Mask& mask);
 
+/// normals_from_depth of a depth that tiles (integrate_periodic): central differences everywhere,
+/// the image's opposite edges taken as neighbours, so that the normals tile as the depth does.
+///
+/// @param[in] depth H x W depth, pixel units, larger = closer.
+/// @return H x W unit normals.
+NormalMap normals_from_periodic_depth(const ImageF& depth);
+
 /// Lambertian image I = albedo * max(0, S . N) of a normal field under a distant light.
 ///
 /// @param[in] normals H x W unit normals, camera frame.
