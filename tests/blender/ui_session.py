@@ -70,17 +70,12 @@ def steps():
     bpy.ops.ed.undo_push(message="ShadeCut test: before")
     before = meshes()
 
-    with bpy.context.temp_override(**view3d_override()):
-        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
-    ticks_at_start = state["ticks"]
-    while meshes() == before:
-        yield
-        assert state["ticks"] - ticks_at_start < 600, "no result after 60 s"
+    ticks = yield from reconstruct_until(lambda: meshes() != before, "no result")
     new = meshes() - before
     assert new == {"sphere"}, new
-    print(f"ui: result after {state['ticks'] - ticks_at_start} timer ticks; "
+    print(f"ui: result after {ticks} timer ticks; "
           f"{len(state['fractions'])} progress calls, last {state['fractions'][-1]:.2f}")
-    assert state["ticks"] - ticks_at_start >= 2, "Blender did not run its timers during the reconstruction"
+    assert ticks >= 2, "Blender did not run its timers during the reconstruction"
     assert state["fractions"][-1] == 1.0
 
     with bpy.context.temp_override(**view3d_override()):
@@ -111,12 +106,7 @@ def steps():
     settings.target, settings.normal_map, settings.height_map = "ACTIVE_MATERIAL", True, True
     bpy.ops.ed.undo_push(message="ShadeCut test: before applying")
     own_nodes, own_images = nodes(), images()
-    with bpy.context.temp_override(**view3d_override()):
-        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
-    ticks_at_start = state["ticks"]
-    while nodes() == own_nodes:
-        yield
-        assert state["ticks"] - ticks_at_start < 600, "the maps did not reach the active object's material in 60 s"
+    yield from reconstruct_until(lambda: nodes() != own_nodes, "the maps did not reach the active object's material")
     print(f"ui: maps applied to the cube's material: {len(nodes()) - len(own_nodes)} nodes added")
     with bpy.context.temp_override(**view3d_override()):
         bpy.ops.ed.undo()
@@ -125,6 +115,18 @@ def steps():
     assert images() == own_images, f"undo left {images() - own_images}"
     print("ui: one undo step gave the cube its own material back")
     print("ui: all checks passed")
+
+
+def reconstruct_until(finished, failure: str):
+    """Invokes the operator as the UI does, then waits timer ticks until finished() (at most 60 s);
+    returns how many ticks that took."""
+    with bpy.context.temp_override(**view3d_override()):
+        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+    start = state["ticks"]
+    while not finished():
+        yield
+        assert state["ticks"] - start < 600, f"{failure} after 60 s"
+    return state["ticks"] - start
 
 
 def nodes() -> list:
