@@ -559,3 +559,27 @@ def test_a_relief_sits_flat_and_keeps_under_the_height_limit(addon, tmp_path):
     assert slope <= 0.01  # a flat carrier: no ramp
     settings.max_height = 0.05
     assert np.ptp(heights()[:, 2]) == pytest.approx(0.05, rel=1e-3)
+
+
+def test_without_openimageio_the_render_panel_says_why_and_the_operator_is_greyed(addon, monkeypatch):
+    from shadecut.blender import lambertian, panels
+
+    reason = "Rendering test images needs OpenImageIO, which this installation lacks (no module named X)"
+    monkeypatch.setattr(lambertian, "files_unavailable", lambda: reason)
+    assert not bpy.ops.shadecut.render_lambertian.poll()
+    labels = []
+
+    class Layout:
+        def column(self, **_):
+            return self
+
+        def label(self, text="", **_):
+            labels.append(text)
+
+        def prop(self, *args, **_):
+            raise AssertionError(f"a setting was drawn: {args}")
+
+    panels.draw_render_settings(Layout(), bpy.context.scene.shadecut_render)
+    assert " ".join(labels).startswith(reason[:40])
+    monkeypatch.undo()
+    assert bpy.ops.shadecut.render_lambertian.poll()

@@ -27,6 +27,7 @@ assert "shadecut" in bpy.context.preferences.addons, "not enabled after a restar
 assert shadecut.__file__.startswith(sys.argv[-1]), shadecut.__file__
 assert bpy.ops.shadecut.reconstruct.poll() is not None
 assert bpy.context.preferences.addons["shadecut"].preferences.default_method == "graphcut"
+assert not bpy.ops.shadecut.render_lambertian.poll(), "the zip has no OpenImageIO module to render with"
 print("installed add-on:", shadecut.__file__)
 """
 

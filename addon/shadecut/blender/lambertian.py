@@ -20,6 +20,7 @@ Blender's "Render Result" image, which is a view, not scene data.
 
 from __future__ import annotations
 
+import functools
 import math
 import tempfile
 from dataclasses import dataclass, field
@@ -203,14 +204,25 @@ def _own_colour_material(material: Optional[bpy.types.Material]):
     return copy
 
 
-def _dataset():
-    """shadecut.dataset, whose files go through OpenImageIO (its Python module and shadecut._imageio):
-    there in Debian's Blender with a source build, not in the add-on's zip (docs/portable_addon.md)."""
+@functools.cache  # asked at every redraw of the panel
+def files_unavailable() -> Optional[str]:
+    """Why test images cannot be rendered here, or None. Their files go through OpenImageIO (its
+    Python module and shadecut._imageio): there in Debian's Blender with a source build, not in the
+    add-on's zip (docs/portable_addon.md)."""
     try:
-        from .. import _imageio, dataset  # noqa: F401  (_imageio: the writer's, checked here to fail early)
+        from .. import _imageio, dataset  # noqa: F401
     except ImportError as error:
-        raise RenderError("rendering test images needs OpenImageIO (its Python module and shadecut's "
-                          f"_imageio), which this installation lacks ({error}); see docs/portable_addon.md") from error
+        return f"Rendering test images needs OpenImageIO, which this installation lacks ({error})"
+    return None
+
+
+def _dataset():
+    """shadecut.dataset, or RenderError saying why it cannot be used here."""
+    reason = files_unavailable()
+    if reason:
+        raise RenderError(reason)
+    from .. import dataset
+
     return dataset
 
 

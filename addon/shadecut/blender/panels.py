@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import textwrap
+
 import bpy
 
-from . import light_preview
+from . import lambertian, light_preview
 from .reconstruct_operator import SHADECUT_OT_reconstruct
 from .render_operator import SHADECUT_OT_render_lambertian
 
@@ -74,7 +76,14 @@ def draw_advanced_settings(layout, settings) -> None:
 
 
 def draw_render_settings(layout, settings) -> None:
-    """Draws the render settings and the button into a panel's layout."""
+    """Draws the render settings and the button into a panel's layout; where rendering cannot work
+    (no OpenImageIO, as from the add-on's zip), says why instead."""
+    reason = lambertian.files_unavailable()
+    if reason:
+        column = layout.column(align=True)
+        for line in textwrap.wrap(reason + ". Build ShadeCut from source for it.", 40):
+            column.label(text=line)
+        return
     column = layout.column()
     column.prop(settings, "objects")
     column.prop(settings, "light_source")

@@ -18,6 +18,13 @@ class SHADECUT_OT_render_lambertian(bpy.types.Operator):
     bl_label = "Render Lambertian test image"
     bl_options = {"REGISTER", "UNDO"}
 
+    @classmethod
+    def poll(cls, context):
+        reason = lambertian.files_unavailable()
+        if reason:
+            cls.poll_message_set(reason)
+        return reason is None
+
     def execute(self, context):
         settings = context.scene.shadecut_render
         output = settings.output_dir
