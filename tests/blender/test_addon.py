@@ -16,15 +16,6 @@ from shadecut.blender.mesh import vertex_step
 LIGHT = (1.0, 0.0, 1.0)
 
 
-@pytest.fixture
-def sphere_png(tmp_path):
-    """A sphere rendered by the core and saved as a 16-bit PNG with the mask as alpha."""
-    scene = synthetic.sphere(light=LIGHT, size=96)
-    path = tmp_path / "sphere.png"
-    shadecut.save_image(path, scene.image, scene.mask)
-    return scene, path
-
-
 def add_sun(direction, name="Sun"):
     """A sun whose light arrives from ``direction`` (world frame): its local +Z points there."""
     sun = bpy.data.objects.new(name, bpy.data.lights.new(name, "SUN"))

@@ -5,18 +5,7 @@ import bpy
 import numpy as np
 import pytest
 
-import shadecut
-from shadecut import synthetic
-
 LIGHT = (1.0, 0.0, 1.0)
-
-
-@pytest.fixture
-def sphere_png(tmp_path):
-    scene = synthetic.sphere(light=LIGHT, size=64)
-    path = tmp_path / "sphere.png"
-    shadecut.save_image(path, scene.image, scene.mask)
-    return scene, path
 
 
 def textured_plane(image, material=True):
@@ -93,7 +82,8 @@ def test_maps_go_live_into_the_active_objects_material(addon, sphere_png):
         texture = node.inputs[socket].links[0].from_node
         assert texture.type == "TEX_IMAGE" and texture.image.name == f"Plane {name}"
         assert texture.image.packed_file is not None and texture.image.colorspace_settings.name == "Non-Color"
-    assert normal_map.inputs["Color"].links[0].from_node.image.size[:] == (64, 64)
+    truth, _ = sphere_png
+    assert normal_map.inputs["Color"].links[0].from_node.image.size[:] == truth.image.shape[::-1]
     assert displacement.inputs["Scale"].default_value > 0
 
     # Again: the ShadeCut nodes are replaced, not piled up.

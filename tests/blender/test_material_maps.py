@@ -13,14 +13,6 @@ from shadecut.blender import reconstruct_operator
 LIGHT = (1.0, 0.0, 1.0)
 
 
-@pytest.fixture
-def sphere_png(tmp_path):
-    scene = synthetic.sphere(light=LIGHT, size=96)
-    path = tmp_path / "sphere.png"
-    shadecut.save_image(path, scene.image, scene.mask)
-    return scene, path
-
-
 def reconstruct(path, **settings):
     options = bpy.context.scene.shadecut
     options.image = bpy.data.images.load(str(path))

@@ -4,8 +4,7 @@
 import bpy
 import numpy as np
 
-from shadecut import synthetic
-from test_relief_preset import addon, bricks_image  # noqa: F401  (addon is a fixture)
+from test_relief_preset import bricks_image
 
 
 def result_heights(settings) -> np.ndarray:
@@ -29,14 +28,15 @@ def seam_and_inner_steps(z: np.ndarray) -> tuple[float, float]:
     return float(seam), float(inner)
 
 
-def test_seamless_relief_tiles(addon, tmp_path):  # noqa: F811
-    addon.image = bricks_image(tmp_path, 128, (0.6, 0.3, 1.0))
-    addon.scene = "relief"
-    addon.seamless = True
-    seam, inner = seam_and_inner_steps(result_heights(addon))
+def test_seamless_relief_tiles(addon, tmp_path):
+    settings = bpy.context.scene.shadecut
+    settings.image = bricks_image(tmp_path, 128, (0.6, 0.3, 1.0))
+    settings.scene = "relief"
+    settings.seamless = True
+    seam, inner = seam_and_inner_steps(result_heights(settings))
     print(f"seamless: seam step {seam:.5f}, largest inner step {inner:.5f}")
     assert seam <= inner
-    addon.seamless = False
-    seam, inner = seam_and_inner_steps(result_heights(addon))
+    settings.seamless = False
+    seam, inner = seam_and_inner_steps(result_heights(settings))
     print(f"not seamless: seam step {seam:.5f}, largest inner step {inner:.5f}")
     assert seam > inner

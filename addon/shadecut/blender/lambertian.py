@@ -210,7 +210,7 @@ def files_unavailable() -> Optional[str]:
     Python module and shadecut._imageio): there in Debian's Blender with a source build, not in the
     add-on's zip (docs/portable_addon.md)."""
     try:
-        from .. import _imageio, dataset  # noqa: F401
+        from .. import _imageio, dataset  # noqa: F401  (that they import is what is asked)
     except ImportError as error:
         return f"Rendering test images needs OpenImageIO, which this installation lacks ({error})"
     return None
