@@ -28,14 +28,27 @@ void bind_enum(py::module_& m, const char* name, const char* doc, std::initializ
   for (Enum value : values) bound.value(to_string(value).c_str(), value);
 }
 
+// value cast to the option's type; pybind11's own message for a wrong type names neither the option
+// nor the value.
+template <class T>
+T cast_option(const char* name, const py::object& value, const T& current) {
+  try {
+    return value.cast<T>();
+  } catch (const py::cast_error&) {
+    throw py::type_error("shadecut: option '" + std::string(name) + "' cannot be " + py::repr(value).cast<std::string>() +
+                         " (" + py::type::of(value).attr("__name__").cast<std::string>() + "); it is now " +
+                         py::repr(py::cast(current)).template cast<std::string>());
+  }
+}
+
 // An enum option that also takes its name as a string; the parser's error names the choices.
 template <class Enum>
 void enum_option(py::class_<ReconstructOptions>& options, std::vector<std::string>& names, const char* name,
                  Enum ReconstructOptions::*field, Enum (*parse)(const std::string&)) {
   options.def_property(
       name, [field](const ReconstructOptions& o) { return o.*field; },
-      [field, parse](ReconstructOptions& o, const py::object& value) {
-        o.*field = py::isinstance<py::str>(value) ? parse(value.cast<std::string>()) : value.cast<Enum>();
+      [field, parse, name](ReconstructOptions& o, const py::object& value) {
+        o.*field = py::isinstance<py::str>(value) ? parse(value.cast<std::string>()) : cast_option(name, value, o.*field);
       });
   names.emplace_back(name);
 }
@@ -43,7 +56,9 @@ void enum_option(py::class_<ReconstructOptions>& options, std::vector<std::strin
 template <class T>
 void option(py::class_<ReconstructOptions>& options, std::vector<std::string>& names, const char* name,
             T ReconstructOptions::*field) {
-  options.def_readwrite(name, field);
+  options.def_property(
+      name, [field](const ReconstructOptions& o) { return o.*field; },
+      [field, name](ReconstructOptions& o, const py::object& value) { o.*field = cast_option(name, value, o.*field); });
   names.emplace_back(name);
 }
 
@@ -57,16 +72,7 @@ ReconstructOptions replaced(const std::vector<std::string>& names, ReconstructOp
     if (std::find(names.begin(), names.end(), name) == names.end())
       throw py::type_error("shadecut: unknown option '" + name + "'; the options are " +
                            py::str(", ").attr("join")(names).cast<std::string>());
-    try {
-      copy.attr(key) = value;
-    } catch (py::error_already_set& error) {
-      if (!error.matches(PyExc_TypeError)) throw;
-      // pybind11's own message names neither the option nor the value.
-      const py::object current = copy.attr(key);
-      throw py::type_error("shadecut: option '" + name + "' cannot be " + py::repr(value).cast<std::string>() + " (" +
-                           py::type::of(value).attr("__name__").cast<std::string>() + "); it is now " +
-                           py::repr(current).cast<std::string>());
-    }
+    copy.attr(key) = value;
   }
   return copy.cast<ReconstructOptions>();
 }

@@ -88,6 +88,13 @@ def test_an_option_of_the_wrong_type_names_the_option_and_the_value():
         shadecut.reconstruct(GOOD, LIGHT, labels="36")
     with pytest.raises(TypeError, match=r"option 'coarse_to_fine_radius' cannot be 2.5 \(float\)"):
         shadecut.ReconstructOptions().replace(coarse_to_fine_radius=2.5)
+    options = shadecut.ReconstructOptions()
+    for name, value, shown in [("seamless", "yes", r"'yes' \(str\); it is now False"),
+                               ("data_weight", None, r"None \(NoneType\); it is now 0.2"),
+                               ("integrator", 3.5, r"3.5 \(float\); it is now <Integrator.poisson: 0>")]:
+        with pytest.raises(TypeError, match=f"option '{name}' cannot be {shown}"):
+            setattr(options, name, value)
+    options.tolerance = None  # an option that may be unset takes None
 
 
 def test_a_falsy_progress_answer_cancels_and_none_goes_on():
