@@ -1,3 +1,5 @@
+#include "test_support.hpp"
+
 #include <shadecut/errors.hpp>
 #include <shadecut/integrate.hpp>
 #include <shadecut/render.hpp>
@@ -314,20 +316,6 @@ TEST(Integrate, RejectsBadInputs) {
 
 }  // namespace
 
-namespace {
-
-// The largest step between neighbours across the image's wrap-around edges, and inside it.
-std::pair<double, double> seam_and_inner_steps(const ImageF& depth) {
-  const Eigen::Index rows = depth.rows(), cols = depth.cols();
-  const double seam = std::max((depth.col(0) - depth.col(cols - 1)).abs().maxCoeff(),
-                               (depth.row(0) - depth.row(rows - 1)).abs().maxCoeff());
-  const double inner = std::max((depth.rightCols(cols - 1) - depth.leftCols(cols - 1)).abs().maxCoeff(),
-                                (depth.bottomRows(rows - 1) - depth.topRows(rows - 1)).abs().maxCoeff());
-  return {seam, inner};
-}
-
-}  // namespace
-
 // Waves of whole periods on a ramp: the waves come back, the ramp (which no tiling surface has) is
 // dropped, and the depth and the normals made from it step across the image's edges no more than
 // between neighbours inside.
@@ -345,12 +333,12 @@ TEST(IntegratePeriodic, RecoversTheTilingPartAndTiles) {
   RecordProperty("max_error", std::to_string(error));
   EXPECT_LE(error, 2e-4);
   EXPECT_EQ(depth.minCoeff(), 0.0f);
-  const auto [seam, inner] = seam_and_inner_steps(depth);
+  const auto [seam, inner] = shadecut::testing::seam_and_inner_steps(depth);
   EXPECT_LE(seam, inner);
 
   const NormalMap normals = shadecut::normals_from_periodic_depth(depth);
   ImageF nx(kRows, kCols);
   for (Eigen::Index i = 0; i < nx.size(); ++i) nx.data()[i] = normals.xyz(i, 0);
-  const auto [normal_seam, normal_inner] = seam_and_inner_steps(nx);
+  const auto [normal_seam, normal_inner] = shadecut::testing::seam_and_inner_steps(nx);
   EXPECT_LE(normal_seam, normal_inner);
 }

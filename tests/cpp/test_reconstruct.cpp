@@ -6,7 +6,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <limits>
 #include <string>
 #include <optional>
@@ -83,11 +82,7 @@ TEST(Reconstruct, SeamlessReliefTilesAndKeepsItsShape) {
   seamless.seamless = true;
   const Reconstruction plain = reconstruct(scene.image, light, nullptr, 1.0, relief);
   const Reconstruction tiled = reconstruct(scene.image, light, nullptr, 1.0, seamless);
-  const ImageF& z = tiled.depth;
-  const Eigen::Index rows = z.rows(), cols = z.cols();
-  const double seam = std::max((z.col(0) - z.col(cols - 1)).abs().maxCoeff(), (z.row(0) - z.row(rows - 1)).abs().maxCoeff());
-  const double inner = std::max((z.rightCols(cols - 1) - z.leftCols(cols - 1)).abs().maxCoeff(),
-                                (z.bottomRows(rows - 1) - z.topRows(rows - 1)).abs().maxCoeff());
+  const auto [seam, inner] = testing::seam_and_inner_steps(tiled.depth);
   EXPECT_LE(seam, inner);
   const double plain_error = mean_angular_error(plain.normals, scene.normals, scene.mask);
   const double tiled_error = mean_angular_error(tiled.normals, scene.normals, scene.mask);

@@ -2,6 +2,7 @@
 
 #include <shadecut/render.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
@@ -66,6 +67,15 @@ Scene mozart_scene(const Eigen::Vector3d& light) {
   scene.normals = normals_from_depth(scene.depth, scene.mask);
   scene.image = render_lambertian(scene.normals, light, 1.0, scene.mask);
   return scene;
+}
+
+std::pair<double, double> seam_and_inner_steps(const ImageF& depth) {
+  const Eigen::Index rows = depth.rows(), cols = depth.cols();
+  const double seam = std::max((depth.col(0) - depth.col(cols - 1)).abs().maxCoeff(),
+                               (depth.row(0) - depth.row(rows - 1)).abs().maxCoeff());
+  const double inner = std::max((depth.rightCols(cols - 1) - depth.leftCols(cols - 1)).abs().maxCoeff(),
+                                (depth.bottomRows(rows - 1) - depth.topRows(rows - 1)).abs().maxCoeff());
+  return {seam, inner};
 }
 
 }  // namespace shadecut::testing

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <utility>
 
 namespace shadecut::testing {
 
@@ -25,6 +26,10 @@ Scene sphere_scene(int size, double radius_fraction, const Eigen::Vector3d& ligh
 /// three bumps and three dents on a 3 x 2 grid, over the whole image), analytic normals, rendered
 /// under `light`.
 Scene bumps_scene(int size, const Eigen::Vector3d& light);
+
+/// The largest step of `depth` between neighbours across the image's wrap-around edges (left column
+/// to right, top row to bottom), and the largest between neighbours inside it.
+std::pair<double, double> seam_and_inner_steps(const ImageF& depth);
 
 /// The Mozart depth map of data/mozart (256 x 256, mask = depth > 0), normals by central differences,
 /// rendered under `light`.
