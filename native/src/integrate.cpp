@@ -4,9 +4,8 @@
 
 #include "enum_names.hpp"
 #include "grid_poisson.hpp"
+#include "fourier.hpp"
 #include "parallel.hpp"
-
-#include <unsupported/Eigen/FFT>
 
 #include <algorithm>
 #include <cmath>
@@ -20,8 +19,6 @@
 namespace shadecut {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Below this n_z a normal is treated as grazing: its slope is the clamp value, in the direction the
 // normal tilts.
@@ -121,36 +118,6 @@ std::vector<double> integrate_poisson(const Gradients& gradients, const Mask& ma
   return detail::solve_grid_poisson(mask, rises, kPoissonTolerance, progress);
 }
 
-// Angular frequency of DFT bin k of n, in radians per pixel. The Nyquist bin of an even n gets 0: it
-// is its own mirror, so any other value would make the spectrum non-Hermitian and the depth complex.
-double angular_frequency(int k, int n) {
-  if (2 * k == n) return 0.0;
-  return 2.0 * kPi * (2 * k < n ? k : k - n) / n;
-}
-
-enum class FourierDirection { Forward, Inverse };
-
-// The 2-D discrete Fourier transform of a rows x cols row-major field, in place: rows, then columns,
-// by Eigen's FFT (kissfft, header-only, any length). The inverse is scaled by 1 / (rows cols).
-void fourier_2d(std::vector<std::complex<double>>& field, int rows, int cols, FourierDirection direction) {
-  auto transform_lines = [&](int lines, int length, std::size_t line_step, std::size_t element_step) {
-    if (length == 1) return;  // the identity, and a length Eigen's kissfft cannot plan
-    detail::parallel_ranges(lines, 16, 0, [&](int begin, int end) {
-      Eigen::FFT<double> fft;  // caches twiddles: one per thread
-      std::vector<std::complex<double>> in(static_cast<std::size_t>(length)), out(in.size());
-      for (int line = begin; line < end; ++line) {
-        std::complex<double>* first = field.data() + std::size_t(line) * line_step;
-        for (int k = 0; k < length; ++k) in[std::size_t(k)] = first[std::size_t(k) * element_step];
-        if (direction == FourierDirection::Forward) fft.fwd(out, in);
-        else fft.inv(out, in);
-        for (int k = 0; k < length; ++k) first[std::size_t(k) * element_step] = out[std::size_t(k)];
-      }
-    });
-  };
-  transform_lines(rows, cols, std::size_t(cols), 1);
-  transform_lines(cols, rows, 1, std::size_t(cols));
-}
-
 // Frankot & Chellappa (1988): the depth whose Fourier-domain gradient is closest to (p, q), computed
 // over the whole rectangle with zero gradients outside the mask. The periodic Fourier basis cannot
 // hold a linear ramp, so the mean masked gradient is taken out first and, with keep_ramp, added back
@@ -181,15 +148,15 @@ std::vector<double> integrate_frankot_chellappa(Gradients gradients, const Mask&
     if (inside[i]) field[i] = {gradients.p[i] - mean_p, gradients.q[i] - mean_q};
   }
   gradients = {};  // the spectra need the memory more
-  fourier_2d(field, rows, cols, FourierDirection::Forward);
+  detail::fourier_2d(field, rows, cols, detail::FourierDirection::Forward);
 
   std::vector<std::complex<double>> z_spectrum(pixel_count);
   const std::complex<double> j(0.0, 1.0);
   for (int r = 0; r < rows; ++r) {
-    const double wy = -angular_frequency(r, rows);  // y grows as the row index falls
+    const double wy = -detail::angular_frequency(r, rows);  // y grows as the row index falls
     const int mirror_r = r == 0 ? 0 : rows - r;
     for (int c = 0; c < cols; ++c) {
-      const double wx = angular_frequency(c, cols);
+      const double wx = detail::angular_frequency(c, cols);
       const double norm = wx * wx + wy * wy;
       const std::size_t i = std::size_t(r) * cols + c;
       if (norm == 0.0) {
@@ -204,7 +171,7 @@ std::vector<double> integrate_frankot_chellappa(Gradients gradients, const Mask&
     }
   }
   field = {};
-  fourier_2d(z_spectrum, rows, cols, FourierDirection::Inverse);
+  detail::fourier_2d(z_spectrum, rows, cols, detail::FourierDirection::Inverse);
   for (int r = 0; r < rows; ++r) {
     const double y = -r;
     for (int c = 0; c < cols; ++c) {

@@ -1,0 +1,21 @@
+// The discrete Fourier transform of an image-sized field, shared by the Fourier-domain integrator
+// (integrate.cpp) and the relief light estimator (estimate_relief_light.cpp).
+#pragma once
+
+#include <complex>
+#include <vector>
+
+namespace shadecut::detail {
+
+/// Angular frequency of DFT bin k of n, in radians per pixel. The Nyquist bin of an even n gets 0: it
+/// is its own mirror, so any other value would make a real field's spectrum non-Hermitian.
+double angular_frequency(int k, int n);
+
+enum class FourierDirection { Forward, Inverse };
+
+/// The 2-D discrete Fourier transform of a rows x cols row-major field, in place: rows, then columns,
+/// by Eigen's FFT (kissfft, header-only, any length), in parallel over lines. The inverse is scaled
+/// by 1 / (rows cols).
+void fourier_2d(std::vector<std::complex<double>>& field, int rows, int cols, FourierDirection direction);
+
+}  // namespace shadecut::detail
