@@ -188,7 +188,7 @@ def run(args: argparse.Namespace) -> int:
     prepare_output(args.out_dir)
     options = shadecut.ReconstructOptions() if args.scene is None else shadecut.ReconstructOptions(scene=args.scene)
     print(f"{PROG}: {len(images)} image(s) in {args.in_dir} -> {args.out_dir}; scene {options.scene.name}, "
-          f"method {options.method.name}, light estimated ({options.light_method.name}), "
+          f"method {options.method.name}, light estimated ({options.light_method_used().name}), "
           f"max size {args.max_size or 'full'}", flush=True)
     for path in skipped:
         print(f"{PROG}: skipped {path.name}: not an image file ({path.suffix or 'no extension'})", flush=True)

@@ -182,20 +182,23 @@ def erode_mask(mask, pixels: int) -> np.ndarray:
 
 
 def estimate_light(image, mask=None, method: Optional[str] = None,
-                   albedo: Optional[float] = None) -> tuple[np.ndarray, float]:
+                   albedo: Optional[float] = None, scene: str = "object") -> tuple[np.ndarray, float]:
     """Estimates (light, albedo) of a Lambertian image: light a (3,) unit vector toward the light.
 
     ``method``: "lee_rosenfeld" (Lee & Rosenfeld 1985: tilt from the mean direction of the intensity
-    gradients, slant from the mean and mean squared intensity of a sphere without attached shadow) or
+    gradients, slant from the mean and mean squared intensity of a sphere without attached shadow),
     "zheng_chellappa" (tilt from the mean gradient, slant from the moments of a sphere with its
-    attached shadow). Both assume normals spread like a sphere's over the mask, which should cover
-    the object only; their measured biases: docs/comparison_methods.md. None = the ``light_method``
-    default of :class:`ReconstructOptions`, the one :func:`reconstruct` uses. The image is read
-    clipped at ``albedo`` (None = :func:`estimate_albedo`'s), above which a highlight would pull
-    the light toward it, as :func:`reconstruct` does.
+    attached shadow) or "relief" (a surface filling the frame: tilt axis from the image's spectrum,
+    the light from above, slant from its median and brightest intensities). The first two assume
+    normals spread like a sphere's over the mask, which should cover the object only; their
+    measured biases: docs/comparison_methods.md. None = the one
+    :func:`reconstruct` uses for ``scene`` (:meth:`ReconstructOptions.light_method_used`). The image
+    is read clipped at ``albedo`` (None = :func:`estimate_albedo`'s), above which a highlight would
+    pull the light toward it, as :func:`reconstruct` does; "relief" takes ``albedo`` as the albedo
+    and otherwise reads it from the relief's brightest pixels.
     """
     if method is None:
-        method = ReconstructOptions().light_method
+        method = ReconstructOptions(scene=scene).light_method_used()
     light, albedo = _core.estimate_light(_real(image), _mask(mask), getattr(method, "name", method), albedo)
     return np.asarray(light), float(albedo)
 

@@ -30,6 +30,11 @@ std::string usage() {
     for (std::size_t i = 0; i < names.size(); ++i) text += (i ? ", " : "") + names[i];
     return text;
   };
+  auto estimator_for = [&defaults](shadecut::SceneKind scene) {
+    shadecut::ReconstructOptions options = defaults;
+    options.scene = scene;
+    return shadecut::to_string(shadecut::light_method_used(options));
+  };
   std::ostringstream text;
   text << R"(usage: shadecut IMAGE [--light X,Y,Z] [options]
 
@@ -44,7 +49,8 @@ options:
   --light X,Y,Z        light direction in the camera frame (Z > 0); without it the light (and,
                        unless --albedo is given, the albedo) is estimated from the image
   --light-method NAME  estimator used without --light: )"
-       << choices(shadecut::light_method_names()) << " (default " << shadecut::to_string(defaults.light_method) << R"()
+       << choices(shadecut::light_method_names()) << "\n                       (default " << estimator_for(shadecut::SceneKind::Object)
+       << " for an object, " << estimator_for(shadecut::SceneKind::Relief) << R"( for a relief)
   --scene NAME         )" << choices(shadecut::scene_kind_names()) << " (default " << shadecut::to_string(defaults.scene) << R"(): an object seen
                        whole, or a relief filling the frame (a wall, a coin) that sits flat, no ramp
   --seamless           with --scene relief: depth and normals that tile (a seamless texture)
@@ -208,7 +214,7 @@ int main(int argc, char** argv) {
 
     const Eigen::Vector3d& used = result.light;
     std::cout << "light " << used.x() << "," << used.y() << "," << used.z()
-              << (result.stats.light_estimated ? " (estimated by " + shadecut::to_string(options.light_method) + ")" : "")
+              << (result.stats.light_estimated ? " (estimated by " + shadecut::to_string(shadecut::light_method_used(options)) + ")" : "")
               << "\nmethod " << shadecut::to_string(options.method) << ", albedo " << result.albedo << ", "
               << result.stats.cycles << " cycles, " << result.stats.moves << " moves, "
               << result.stats.seconds.at("total") << " s\n"

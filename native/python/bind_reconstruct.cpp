@@ -41,14 +41,15 @@ T cast_option(const char* name, const py::object& value, const T& current) {
   }
 }
 
-// An enum option that also takes its name as a string; the parser's error names the choices.
-template <class Enum>
+// An enum option, or an optional one (unset = None), that also takes its name as a string; the
+// parser's error names the choices.
+template <class Field, class Enum>
 void enum_option(py::class_<ReconstructOptions>& options, std::vector<std::string>& names, const char* name,
-                 Enum ReconstructOptions::*field, Enum (*parse)(const std::string&)) {
+                 Field ReconstructOptions::*field, Enum (*parse)(const std::string&)) {
   options.def_property(
       name, [field](const ReconstructOptions& o) { return o.*field; },
       [field, parse, name](ReconstructOptions& o, const py::object& value) {
-        o.*field = py::isinstance<py::str>(value) ? parse(value.cast<std::string>()) : cast_option(name, value, o.*field);
+        o.*field = py::isinstance<py::str>(value) ? Field(parse(value.cast<std::string>())) : cast_option(name, value, o.*field);
       });
   names.emplace_back(name);
 }
@@ -87,7 +88,8 @@ void bind_reconstruct(py::module_& m) {
   bind_enum<Method>(m, "Method", "Reconstruction methods (docs/method.md)",
                     {Method::GraphCut, Method::GraphCutTwo, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah});
   bind_enum<Integrator>(m, "Integrator", "Normal integrators", {Integrator::Poisson, Integrator::FrankotChellappa});
-  bind_enum<LightMethod>(m, "LightMethod", "Light estimators", {LightMethod::LeeRosenfeld, LightMethod::ZhengChellappa});
+  bind_enum<LightMethod>(m, "LightMethod", "Light estimators",
+                         {LightMethod::LeeRosenfeld, LightMethod::ZhengChellappa, LightMethod::Relief});
   bind_enum<SceneKind>(m, "SceneKind", "What the image shows", {SceneKind::Object, SceneKind::Relief});
   bind_enum<AlbedoMethod>(m, "AlbedoMethod", "Albedo estimators", {AlbedoMethod::Brightest, AlbedoMethod::TopFit});
 
@@ -126,6 +128,8 @@ void bind_reconstruct(py::module_& m) {
       "replace",
       [names](const ReconstructOptions& self, const py::kwargs& overrides) { return replaced(names, self, overrides); },
       "A copy with the given fields set.");
+  options.def("light_method_used", &light_method_used,
+              "The light estimator reconstruct() uses when given no light: light_method, or by scene when None.");
   options.def("__repr__", [names](const py::object& self) {
     std::string text = "ReconstructOptions(";
     for (std::size_t i = 0; i < names.size(); ++i) {

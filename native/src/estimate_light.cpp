@@ -5,6 +5,7 @@
 #include <shadecut/validate.hpp>
 
 #include "enum_names.hpp"
+#include "estimate_relief_light.hpp"
 #include "masked_gradient.hpp"
 
 #include <algorithm>
@@ -25,7 +26,7 @@ double shadowed_mean_square(double s) { return std::pow(1.0 + std::cos(s), 2) / 
 }  // namespace
 
 const std::vector<std::string>& light_method_names() {
-  static const std::vector<std::string> names{"lee_rosenfeld", "zheng_chellappa"};
+  static const std::vector<std::string> names{"lee_rosenfeld", "zheng_chellappa", "relief"};
   return names;
 }
 
@@ -39,6 +40,7 @@ LightEstimate estimate_light(const ImageF& image_in, const Mask& mask, LightMeth
   check_image(image_in);
   check_mask(mask, image_in);
   if (image_in.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
+  if (method == LightMethod::Relief) return detail::estimate_relief_light(image_in, mask, ceiling);
   // Highlights and saturated spots would pull the light toward them: above the albedo no Lambertian
   // surface of it shows, so the image is read clipped there.
   const ImageF image = image_in.min(float(ceiling ? *ceiling : estimate_albedo(image_in, mask)));

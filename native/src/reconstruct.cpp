@@ -55,8 +55,11 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, float brightes
   } else {
     progress.report(0.0, "light");
     const Stopwatch stopwatch;
-    const double ceiling = albedo ? *albedo : estimate_albedo(image, mask, options.albedo_method);
-    const LightEstimate estimate = estimate_light(image, mask, options.light_method, ceiling);
+    const LightMethod method = light_method_used(options);
+    // The relief estimator takes its albedo from the relief's own brightest pixels.
+    const std::optional<double> ceiling =
+        albedo || method == LightMethod::Relief ? albedo : estimate_albedo(image, mask, options.albedo_method);
+    const LightEstimate estimate = estimate_light(image, mask, method, ceiling);
     result.stats.seconds["light"] = stopwatch.seconds();
     result.stats.light_estimated = true;
     direction = estimate.light;
@@ -175,6 +178,11 @@ const std::vector<std::string>& scene_kind_names() {
 SceneKind parse_scene_kind(const std::string& name) { return parse_enum<SceneKind>(scene_kind_names(), name, "scene kind"); }
 
 std::string to_string(SceneKind kind) { return scene_kind_names().at(std::size_t(kind)); }
+
+LightMethod light_method_used(const ReconstructOptions& options) {
+  if (options.light_method) return *options.light_method;
+  return options.scene == SceneKind::Relief ? LightMethod::Relief : LightMethod::ZhengChellappa;
+}
 
 const std::vector<std::string>& method_names() {
   static const std::vector<std::string> names{"graphcut", "graphcut_two", "lee_rosenfeld", "brooks_horn", "tsai_shah"};

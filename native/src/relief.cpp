@@ -11,7 +11,7 @@
 
 namespace shadecut {
 
-double relief_albedo(const ImageF& image, const Mask& mask, const Eigen::Vector3d& light) {
+double median_intensity(const ImageF& image, const Mask& mask) {
   std::vector<float> values;
   values.reserve(std::size_t(mask.count()));
   for (Eigen::Index i = 0; i < image.size(); ++i)
@@ -20,7 +20,11 @@ double relief_albedo(const ImageF& image, const Mask& mask, const Eigen::Vector3
   const auto middle = values.begin() + std::ptrdiff_t(values.size() / 2);
   std::nth_element(values.begin(), middle, values.end());
   if (!(*middle > 0.0f)) throw InvalidArgument("shadecut: the image is dark in most of the relief; nothing to reconstruct");
-  return double(*middle) / light.z();
+  return double(*middle);
+}
+
+double relief_albedo(const ImageF& image, const Mask& mask, const Eigen::Vector3d& light) {
+  return median_intensity(image, mask) / light.z();
 }
 
 void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {

@@ -22,7 +22,9 @@ def test_the_cli_help_states_the_bound_defaults():
     help_text = subprocess.run([str(CLI), "--help"], capture_output=True, text=True, check=True).stdout
     assert cli_default(help_text, "--method") == DEFAULTS.method.name
     assert cli_default(help_text, "--scene") == DEFAULTS.scene.name
-    assert cli_default(help_text, "--light-method") == DEFAULTS.light_method.name
+    relief = DEFAULTS.replace(scene="relief")
+    assert cli_default(help_text, "--light-method").split() == [
+        DEFAULTS.light_method_used().name, "for", "an", "object,", relief.light_method_used().name, "for", "a", "relief"]
     assert cli_default(help_text, "--integrator") == DEFAULTS.integrator.name
     assert int(cli_default(help_text, "--labels")) == DEFAULTS.labels
     assert float(cli_default(help_text, "--data-weight")) == DEFAULTS.data_weight

@@ -29,8 +29,7 @@ _COMPLETE = ".complete"
 
 def default_estimator() -> str:
     """The light estimator :func:`shadecut.reconstruct` uses when given no light."""
-    method = ReconstructOptions().light_method
-    return getattr(method, "name", str(method))
+    return ReconstructOptions().light_method_used().name
 
 
 def find_objects(path: os.PathLike | str) -> list[Path]:

@@ -21,6 +21,12 @@ enum class LightMethod {
   /// gradient (magnitudes kept); slant and albedo from the exact moments of the sphere image with its
   /// attached shadow: E1 = 2 rho ((pi - s) cos s + sin s) / (3 pi), E2 = rho^2 (1 + cos s)^2 / 8.
   ZhengChellappa,
+  /// "relief": for a surface that fills the frame and on average faces the viewer, whose normals are
+  /// nothing like a sphere's. Tilt axis from the image's spectrum (the one along which the image
+  /// integrates to the least relief), the light from above (S_y >= 0: shading cannot tell a relief lit
+  /// from one side from its inverse lit from the other), slant from S_z = median / brightest
+  /// (99.5th percentile) intensity; albedo = median / S_z. Details in src/estimate_relief_light.hpp.
+  Relief,
 };
 
 /// Every estimator's name, in the order of the enum.
@@ -39,9 +45,9 @@ struct LightEstimate {
 
 /// Estimates light and albedo from the masked pixels of a Lambertian image.
 ///
-/// Both estimators assume that the surface normals in the mask are spread like those of a sphere
-/// seen whole (uniformly over the visible hemisphere in image area), and that the mask covers the
-/// object only: background pixels bias the moments. Derivatives are central differences between
+/// lee_rosenfeld and zheng_chellappa assume that the surface normals in the mask are spread like
+/// those of a sphere seen whole (uniformly over the visible hemisphere in image area), and that the
+/// mask covers the object only: background pixels bias the moments. relief assumes a relief. Derivatives are central differences between
 /// masked pixels (y up), taken where both axes have a masked neighbour.
 ///
 /// The image is read clipped at `ceiling`, the albedo: above it no Lambertian surface of that albedo
@@ -51,7 +57,8 @@ struct LightEstimate {
 /// @param[in] image   H x W linear intensity (>= 2 x 2, finite, >= 0).
 /// @param[in] mask    H x W pixels to use.
 /// @param[in] method  which estimator.
-/// @param[in] ceiling the albedo, or std::nullopt for estimate_albedo's (top_fit).
+/// @param[in] ceiling the albedo, or std::nullopt for estimate_albedo's (top_fit); relief: the albedo,
+///                    or std::nullopt for its brightest pixels', and the image is not clipped.
 /// @throws InvalidArgument for bad input or an image dark everywhere in the mask.
 LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightMethod method,
                              std::optional<double> ceiling = std::nullopt);

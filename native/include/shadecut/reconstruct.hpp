@@ -85,7 +85,8 @@ struct ReconstructOptions {
   /// brooks_horn lambda for an object of kReferenceObjectSize pixels (the per-pixel weight is this
   /// times (object_size / kReferenceObjectSize)^2, at least kStableSmoothness); unset = method_defaults
   std::optional<double> smoothness;
-  LightMethod light_method = LightMethod::ZhengChellappa;  ///< the estimator used when no light is given
+  /// the estimator used when no light is given; unset = by scene (light_method_used)
+  std::optional<LightMethod> light_method;
   AlbedoMethod albedo_method = AlbedoMethod::TopFit;       ///< the estimator used when no albedo is given with a light
   /// Pixels brighter than this times the albedo, which no Lambertian surface of that albedo shows
   /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never.
@@ -132,6 +133,11 @@ struct Reconstruction {
 };
 
 
+/// The light estimator reconstruct() uses when given no light: options.light_method, or for the
+/// scene kind: zheng_chellappa for an object, relief for a relief (whose normals are nothing like
+/// the sphere's the others assume).
+LightMethod light_method_used(const ReconstructOptions& options);
+
 /// What reconstruct() hands global_step for the graph-cut methods (graphcut, graphcut_two): the
 /// options' values, method_defaults where they are unset, and the thread count of the reconstruct()
 /// in progress (every core outside one).
@@ -141,7 +147,7 @@ GlobalStepParams global_step_params(const ReconstructOptions& options);
 ///
 /// @param[in] image   H x W linear intensity (>= 2 x 2, finite).
 /// @param[in] light   direction toward the light, camera frame, S_z > 0 (normalized here), or
-///                    std::nullopt to estimate it with options.light_method (estimate_light.hpp).
+///                    std::nullopt to estimate it with light_method_used(options) (estimate_light.hpp).
 /// @param[in] mask    H x W pixels to reconstruct, or nullptr for all.
 /// @param[in] albedo  > 0, or std::nullopt: the light estimator's albedo when the light is estimated,
 ///                    estimate_albedo with options.albedo_method otherwise.
