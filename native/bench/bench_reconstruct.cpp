@@ -1,6 +1,7 @@
 // Whole-call and per-stage timings of reconstruct() at 256, 512 and 1024 pixels square (the
 // comparison methods brooks_horn and tsai_shah at 256 and 512), default parameters of each method;
-// *_exact: one level, every label (coarse_to_fine_band = -1); graphcut_band2: a band of two label steps.
+// *_exact: one level, every label (coarse_to_fine_band = -1); graphcut_band2: a band of two label steps;
+// graphcut_fit: fit_shading on (its stage's share in the fit_shading_ms counter).
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=Reconstruct --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true
@@ -50,13 +51,14 @@ const BenchScene& scene_of_size(int size) {
   return cache.emplace(size, std::move(scene)).first->second;
 }
 
-void BM_Reconstruct(benchmark::State& state, Method method, Integrator integrator, int band) {
+void BM_Reconstruct(benchmark::State& state, Method method, Integrator integrator, int band, bool fit) {
   const int size = int(state.range(0));
   const BenchScene& scene = scene_of_size(size);
   ReconstructOptions options;
   options.method = method;
   options.integrator = integrator;
   options.coarse_to_fine_band = band;
+  options.fit_shading = fit;
   std::map<std::string, double> stage_seconds;
   int iterations = 0;
   for (auto _ : state) {
@@ -78,10 +80,12 @@ void register_reconstruct_benchmarks() {
     Integrator integrator;
     std::initializer_list<int> sizes;
     int band = ReconstructOptions{}.coarse_to_fine_band;
+    bool fit = ReconstructOptions{}.fit_shading;
   };
   const Case cases[] = {
       {"graphcut/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"graphcut/poisson", Method::GraphCut, Integrator::Poisson, {256, 512, 1024}},
+      {"graphcut_fit/poisson", Method::GraphCut, Integrator::Poisson, {256, 512, 1024}, ReconstructOptions{}.coarse_to_fine_band, true},
       {"graphcut_exact/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, -1},
       {"graphcut_band2/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, 2},
       {"graphcut_two_exact/frankot_chellappa", Method::GraphCutTwo, Integrator::FrankotChellappa, {256, 512}, -1},
@@ -92,7 +96,7 @@ void register_reconstruct_benchmarks() {
   };
   for (const Case& c : cases) {
     auto* bench = benchmark::RegisterBenchmark((std::string("BM_Reconstruct/") + c.name).c_str(), BM_Reconstruct,
-                                               c.method, c.integrator, c.band);
+                                               c.method, c.integrator, c.band, c.fit);
     for (int size : c.sizes) bench->Arg(size);
     bench->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
   }

@@ -117,6 +117,8 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "fill_shadows", &ReconstructOptions::fill_shadows);
   option(options, names, "shadow_threshold", &ReconstructOptions::shadow_threshold);
   option(options, names, "occluding_contour", &ReconstructOptions::occluding_contour);
+  option(options, names, "fit_shading", &ReconstructOptions::fit_shading);
+  option(options, names, "fit_smoothness", &ReconstructOptions::fit_smoothness);
   option(options, names, "seamless", &ReconstructOptions::seamless);
   option(options, names, "threads", &ReconstructOptions::threads);
   m.attr("OPTION_NAMES") = py::tuple(py::cast(names));
@@ -152,7 +154,12 @@ void bind_reconstruct(py::module_& m) {
       .def_readonly("levels", &ReconstructStats::levels, "resolutions solved (coarse to fine)")
       .def_readonly("maxflow_seconds", &ReconstructStats::maxflow_seconds)
       .def_readonly("allowed_label_fraction", &ReconstructStats::allowed_label_fraction)
-      .def_readonly("shadow_pixels", &ReconstructStats::shadow_pixels);
+      .def_readonly("shadow_pixels", &ReconstructStats::shadow_pixels)
+      .def_readonly("shading_residual_before", &ReconstructStats::shading_residual_before,
+                    "fit_shading: sum of squared brightness residuals of the integrated depth")
+      .def_readonly("shading_residual_after", &ReconstructStats::shading_residual_after,
+                    "fit_shading: the same after the fit (never larger)")
+      .def_readonly("fit_steps", &ReconstructStats::fit_steps);
 
   // The arrays are views of the result's own buffers, kept alive by it: no copy.
   py::class_<Reconstruction>(m, "Reconstruction", "The result of reconstruct().")

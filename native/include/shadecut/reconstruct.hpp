@@ -97,19 +97,26 @@ struct ReconstructOptions {
   bool fill_shadows = true;                 ///< interpolate normals in attached shadows (fill_normals)
   double shadow_threshold = 1e-3;           ///< relative intensity at or below which a pixel is in shadow
   bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling (objects)
+  /// graphcut: after integration, fit the depth to the image (fit_shading.hpp): the
+  /// normals are then the depth's, integrable, and render closer to the image. Not with seamless.
+  /// Off by default: it wins on the training surfaces but adds 3.4-6.1 s to a call of 0.08-1.1 s
+  /// (256-1024 px, docs/benchmarks.md, "Fitting the depth to the image").
+  bool fit_shading = false;
+  /// FitShadingParams::smoothness, tuned (docs/parameters.md).
+  double fit_smoothness = 0.3;
   /// Reliefs over the whole image: depth and normals that tile, the image's opposite edges meeting
   /// (integrate_periodic, normals_from_periodic_depth), for seamless textures. Needs scene = Relief
   /// and no mask, or one that covers every pixel; the integrator setting is then not used.
   bool seamless = false;
   int threads = 0;                          ///< 0 = all cores
   /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
-  /// "graphcut", "brooks_horn", "tsai_shah", "integration". Returning false cancels.
+  /// "graphcut", "brooks_horn", "tsai_shah", "integration", "fit_shading". Returning false cancels.
   ProgressCallback progress;
 };
 
 struct ReconstructStats {
   std::map<std::string, double> seconds;    ///< per stage run ("light", "local", "energy", "graphcut",
-                                            ///< "brooks_horn", "tsai_shah", "integration") and "total"
+                                            ///< "brooks_horn", "tsai_shah", "integration", "fit_shading") and "total"
   std::vector<double> energy_per_cycle;     ///< initial energy, then after every alpha-expansion cycle
   int cycles = 0;
   int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps; 0 for lee_rosenfeld
@@ -121,6 +128,11 @@ struct ReconstructStats {
   double allowed_label_fraction = 0.0;      ///< share of (pixel, label) pairs left after pruning
   int shadow_pixels = 0;                    ///< pixels whose normals were filled from their neighbours
                                             ///< (attached shadows and highlights: fill_normals)
+  /// fit_shading: the brightness residual before and after (FitShadingStats) and the steps taken;
+  /// all 0 when it did not run.
+  double shading_residual_before = 0.0;
+  double shading_residual_after = 0.0;
+  int fit_steps = 0;
 };
 
 struct Reconstruction {
