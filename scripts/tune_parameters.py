@@ -25,7 +25,8 @@ BAND_RADIUS_SLACK degrees of the band at every pixel (radius -1).
 Run: PYTHONPATH=addon /usr/bin/python3 scripts/tune_parameters.py [--methods NAME ...] [--sizes N ...]
 (every method of the grid, at 128 and 256 pixels, by default; --methods tunes only those named, by
 the same procedure; --albedo tunes only the albedo estimate; --band-radius only graphcut's
-coarse_to_fine_radius, at 256 and 512 pixels unless --sizes says otherwise).
+coarse_to_fine_radius, at 256 and 512 pixels unless --sizes says otherwise; --fit-smoothness only
+graphcut's fit_smoothness, with fit_shading on, by the same score).
 """
 
 from __future__ import annotations
@@ -87,6 +88,31 @@ HIGHLIGHT_THRESHOLDS = (0.0, 1.05, 1.1, 1.2, 1.5, 2.0)
 TRAINING_ALBEDOS = (0.2, 0.5)
 # (strength, shininess) of the Blinn-Phong lobe added to the Lambertian image; (0, 1) is none.
 TRAINING_HIGHLIGHTS = ((0.0, 1.0), (0.3, 20.0), (0.5, 100.0), (1.0, 50.0), (2.0, 300.0))
+
+
+FIT_SMOOTHNESSES = (0.1, 0.2, 0.3, 0.5, 1.0, 2.0)
+
+
+def tune_fit_smoothness(surfaces: dict) -> None:
+    """graphcut with fit_shading, each fit_smoothness scored like a grid setting; fit off for reference."""
+    def score(**options) -> tuple[float, dict]:
+        errors = {size: [scene.mean_error(shadecut.reconstruct(scene.image, scene.light, scene.mask, albedo=scene.albedo,
+                                                               **options).normals)
+                         for scene in scenes.values()]
+                  for size, scenes in surfaces.items()}
+        return float(np.mean(list(errors.values()))), errors
+
+    def line(error: float, errors: dict) -> str:
+        return f"mean error {error:.3f} deg (" + "; ".join(
+            f"{size} px {np.mean(e):.2f} [{', '.join(f'{v:.2f}' for v in e)}]" for size, e in errors.items()) + ")"
+
+    print(f"fit_shading off: {line(*score(fit_shading=False))}")
+    scored = []
+    for smoothness in FIT_SMOOTHNESSES:
+        error, errors = score(fit_shading=True, fit_smoothness=smoothness)
+        print(f"  fit_smoothness {smoothness}: {line(error, errors)}", flush=True)
+        scored.append((error, smoothness))
+    print(f"  chosen fit_smoothness: {min(scored)[1]}")
 
 
 BAND_RADII = (0, 1, 2, 3, 4, 6, 8)
@@ -176,7 +202,11 @@ def main() -> int:
                         help="image sizes (pixels) at which every training surface is rendered")
     parser.add_argument("--albedo", action="store_true", help="tune only the albedo estimate (top_fit's window)")
     parser.add_argument("--band-radius", action="store_true", help="choose only graphcut's coarse_to_fine_radius")
+    parser.add_argument("--fit-smoothness", action="store_true", help="tune only graphcut's fit_smoothness (fit_shading)")
     args = parser.parse_args()
+    if args.fit_smoothness:
+        tune_fit_smoothness({size: training_surfaces(size) for size in args.sizes})
+        return 0
     if args.band_radius:
         sizes = args.sizes if "--sizes" in sys.argv else [256, 512]
         tune_band_radius({size: training_surfaces(size) for size in sizes})
