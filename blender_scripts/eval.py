@@ -2,7 +2,7 @@
 
     blender -b -P blender_scripts/eval.py -- [--dataset DIR] [--methods graphcut,lee_rosenfeld,...]
         [--out DIR] [--size N] [--estimate-light [ESTIMATOR]] [--shapes a,b] [--lights N] [--seed S]
-        [--no-paper] [--diligent DIR]
+        [--no-paper] [--diligent DIR] [--fit-shading]
 
 Without --dataset, the default dataset (make_dataset.py's built-in shapes, three seeded lights each,
 256 x 256; --size, --shapes, --lights and --seed change it) is generated once into
@@ -75,6 +75,8 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
                         help="skip the paper's experiment (Mozart, light (1,0,1))")
     parser.add_argument("--diligent", type=Path, metavar="DIR",
                         help="real photographs: a DiLiGenT object folder or a folder of them (alone: only these)")
+    parser.add_argument("--fit-shading", action="store_true",
+                        help="reconstruct with fit_shading on (graphcut: the depth fitted to the image)")
     generated = parser.add_argument_group("generated dataset (without --dataset)")
     generated.add_argument("--size", type=int, metavar="N",
                            help=f"image size in pixels (default {GENERATED_DEFAULTS['size']})")
@@ -258,25 +260,27 @@ def main(argv: list[str]) -> int:
         print(f"eval.py: error: {error}", file=sys.stderr)
         return 2
 
+    options = {"fit_shading": True} if args.fit_shading else {}
     shown = []
     if run_dataset:
         light = (f"light and albedo estimated by {args.estimate_light}" if args.estimate_light
                  else "true light and albedo")
         log(f"evaluating {len(methods)} methods ({', '.join(methods)}) on {dataset}; {light}")
-        run = evaluation.evaluate_dataset(dataset, methods, light_method=args.estimate_light, figures_dir=figures,
-                                          log=log)
+        run = evaluation.evaluate_dataset(dataset, methods, light_method=args.estimate_light, options=options,
+                                          figures_dir=figures, log=log)
         shown = [f"figures/{s['id']}.png" for s in run.samples if (figures / f"{s['id']}.png").is_file()]
     else:
         run = evaluation.Evaluation({"dataset": None, "methods": list(methods), "light_method": None,
-                                     "erode_pixels": evaluation.ERODE_PIXELS}, [], [])
+                                     "options": options, "erode_pixels": evaluation.ERODE_PIXELS}, [], [])
     if run_dataset and not args.no_paper:
         log("the paper's experiment: Mozart, light (1, 0, 1)")
-        run.paper, result = evaluation.paper_experiment(shapes.MOZART, methods, figures_dir=figures, log=log)
+        run.paper, result = evaluation.paper_experiment(shapes.MOZART, methods, options=options, figures_dir=figures,
+                                                        log=log)
         shown = ["figures/mozart_paper.png", paper_figures(figures, result).relative_to(out).as_posix()] + shown
     if imported:
         log(f"evaluating {len(methods)} methods ({', '.join(methods)}) on the real photographs of "
             f"{', '.join(imported)}; calibrated, then estimated light; albedo estimated")
-        run.real = evaluation.evaluate_real(imported, methods, figures_dir=figures, log=log)
+        run.real = evaluation.evaluate_real(imported, methods, options=options, figures_dir=figures, log=log)
     paths = evaluation.write_results(out, run, shown)
 
     summary = run.summary

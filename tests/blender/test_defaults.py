@@ -25,6 +25,7 @@ def test_panel_and_preferences_defaults_equal_the_bound_defaults(settings):
     assert settings.labels == DEFAULTS.labels
     assert settings.data_weight == pytest.approx(DEFAULTS.data_weight)
     assert settings.integrator == DEFAULTS.integrator.name
+    assert settings.fit_shading == DEFAULTS.fit_shading
     assert settings.scene == DEFAULTS.scene.name
     assert property_of(ShadeCutReconstructSettings, "labels").hard_min == shadecut.MIN_LABELS
     assert {item.identifier for item in property_of(ShadeCutReconstructSettings, "integrator").enum_items} == set(

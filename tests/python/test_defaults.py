@@ -31,6 +31,8 @@ def test_the_cli_help_states_the_bound_defaults():
     assert int(cli_default(help_text, "--band")) == DEFAULTS.coarse_to_fine_band
     assert int(cli_default(help_text, "--band-radius")) == DEFAULTS.coarse_to_fine_radius
     assert int(cli_default(help_text, "--threads")) == DEFAULTS.threads
+    assert cli_default(help_text, "--fit-shading") == ("on" if DEFAULTS.fit_shading else "off")
+    assert float(cli_default(help_text, "--fit-smoothness")) == DEFAULTS.fit_smoothness
     assert "--maxflow" not in help_text  # the test solvers are no user option
 
 

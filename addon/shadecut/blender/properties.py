@@ -119,6 +119,11 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         name="Solver", items=INTEGRATOR_ITEMS, default=DEFAULTS.integrator.name,
         description="How the slopes are joined into heights (the integrator)",
     )
+    fit_shading: bpy.props.BoolProperty(
+        name="Fit to image", default=DEFAULTS.fit_shading,
+        description="After the graph cut, refine the heights until the surface's shading matches the image: "
+                    "more accurate on most surfaces, and many times slower",
+    )
     auto_albedo: bpy.props.BoolProperty(
         name="Auto albedo", default=True,
         description="Work out the surface's brightness (albedo) from the image; off = the value beside",

@@ -106,7 +106,7 @@ def _cropped(truth, reconstructions: dict, margin: int = 8):
     return cut, {m: SimpleNamespace(normals=r.normals[box]) for m, r in reconstructions.items()}
 
 
-def evaluate_object(dataset_dir: os.PathLike | str, methods: Sequence[str], *,
+def evaluate_object(dataset_dir: os.PathLike | str, methods: Sequence[str], *, options: Optional[dict] = None,
                     figures_dir: Optional[os.PathLike | str] = None,
                     log: Callable[[str], None] = print) -> dict:
     """Evaluates every sample of one imported object with the calibrated and the estimated light.
@@ -135,7 +135,7 @@ def evaluate_object(dataset_dir: os.PathLike | str, methods: Sequence[str], *,
         flat = flat_record(sample_id, shape, truth)
         records.append(flat)
         for light, light_method in zip(LIGHTS, (None, estimator)):
-            result = evaluate_sample(sample_id, shape, truth, methods, light_method=light_method)
+            result = evaluate_sample(sample_id, shape, truth, methods, light_method=light_method, options=options)
             for record in result.records:
                 record["light"] = light
             records.extend(result.records)
@@ -156,15 +156,15 @@ def evaluate_object(dataset_dir: os.PathLike | str, methods: Sequence[str], *,
             "figures": [str(path) for path in figures]}
 
 
-def evaluate_real(objects: dict[str, Path], methods: Sequence[str], *,
+def evaluate_real(objects: dict[str, Path], methods: Sequence[str], *, options: Optional[dict] = None,
                   figures_dir: Optional[os.PathLike | str] = None, log: Callable[[str], None] = print) -> dict:
     """The real-photograph section of results.json: ``settings`` and ``objects`` (name -> the part
     :func:`evaluate_object` returns), for ``objects`` (name -> imported dataset folder)."""
     parts = {}
     for name, folder in objects.items():
         log(f"real photographs: {name} ({folder})")
-        parts[name] = evaluate_object(folder, methods, figures_dir=figures_dir, log=log)
+        parts[name] = evaluate_object(folder, methods, options=options, figures_dir=figures_dir, log=log)
     settings = {"source": "DiLiGenT", "citation": diligent.CITATION, "methods": list(methods),
-                "estimator": default_estimator(), "albedo": "estimated", "erode_pixels": ERODE_PIXELS,
+                "estimator": default_estimator(), "options": dict(options or {}), "albedo": "estimated", "erode_pixels": ERODE_PIXELS,
                 "objects": {name: str(folder) for name, folder in objects.items()}}
     return {"settings": settings, "objects": parts}

@@ -167,6 +167,9 @@ def write_results(out_dir: os.PathLike | str, evaluation: Evaluation, figures: S
     light = (f"estimated from each image (shadecut.estimate_light, {settings['light_method']})"
              if settings.get("light_method") else "given (true)")
     lines = ["# ShadeCut evaluation", "", provenance(), ""]
+    if settings.get("options"):
+        lines += ["Options set for every method: " + ", ".join(f"`{k}={v}`" for k, v in settings["options"].items()),
+                  ""]
     if settings.get("dataset") is not None:  # None: only the real photographs were evaluated
         lines += [
             f"Dataset `{settings['dataset']}`: {len(evaluation.samples)} samples; methods "

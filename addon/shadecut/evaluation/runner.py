@@ -39,7 +39,7 @@ def _record(sample_id: str, shape: str, method: str) -> dict:
 
 
 def evaluate_sample(sample_id: str, shape: str, truth, methods: Sequence[str], *,
-                    light_method: Optional[str] = None) -> SampleResult:
+                    light_method: Optional[str] = None, options: Optional[dict] = None) -> SampleResult:
     """Reconstructs one sample with every method and measures each against the truth.
 
     ``truth`` has ``image``, ``normals``, ``depth``, ``mask``, ``light`` and ``albedo`` (a
@@ -48,7 +48,8 @@ def evaluate_sample(sample_id: str, shape: str, truth, methods: Sequence[str], *
     get the true light and albedo, as in the paper, or with ``light_method`` (one of
     shadecut.LIGHT_METHODS) those that
     :func:`shadecut.estimate_light` finds with that estimator (one estimate per sample, shared by
-    all methods); default parameters otherwise. A method that raises, or whose result is
+    all methods); default parameters otherwise, with ``options`` (ReconstructOptions fields, e.g.
+    ``{"fit_shading": True}``) set for every method. A method that raises, or whose result is
     not finite, is recorded as failed with its message; the others go on.
     """
     true_light = np.asarray(truth.light, dtype=np.float64)
@@ -75,7 +76,7 @@ def evaluate_sample(sample_id: str, shape: str, truth, methods: Sequence[str], *
     for record in records:
         method = record["method"]
         try:
-            result = reconstruct(truth.image, light, truth.mask, albedo, method=method)
+            result = reconstruct(truth.image, light, truth.mask, albedo, method=method, **(options or {}))
         # Whatever one method raises on one sample is that method's result there: recorded, and the
         # run goes on. BaseException (Ctrl-C) still stops the run.
         except Exception as error:  # noqa: BLE001
@@ -134,12 +135,12 @@ def _progress_line(index: int, total: int, result: SampleResult) -> str:
 
 
 def evaluate_dataset(dataset_dir: os.PathLike | str, methods: Sequence[str], *,
-                     light_method: Optional[str] = None, figures_dir: Optional[os.PathLike | str] = None,
+                     light_method: Optional[str] = None, options: Optional[dict] = None, figures_dir: Optional[os.PathLike | str] = None,
                      log: Callable[[str], None] = print) -> Evaluation:
     """Evaluates every sample of a dataset (made by make_dataset.py or dataset.write_sample).
 
-    ``light_method``: None = the true light and albedo; else the estimator that gives them (see
-    :func:`evaluate_sample`). Prints one progress line per sample through ``log``; with
+    ``light_method``: None = the true light and albedo; else the estimator that gives them;
+    ``options``: set for every method (see :func:`evaluate_sample`). Prints one progress line per sample through ``log``; with
     ``figures_dir``, writes a strip per sample there (``<id>.png``). A sample whose files cannot be
     read is recorded as failed for every method.
     """
@@ -156,7 +157,7 @@ def evaluate_dataset(dataset_dir: os.PathLike | str, methods: Sequence[str], *,
             for record in result.records:
                 record.update(status="failed", error=f"cannot read the sample {entry['folder']}: {error}")
         else:
-            result = evaluate_sample(sample_id, shape, truth, methods, light_method=light_method)
+            result = evaluate_sample(sample_id, shape, truth, methods, light_method=light_method, options=options)
             if figures_dir is not None:
                 save_strip(Path(figures_dir) / f"{sample_id}.png", f"{sample_id} ({shape})", truth,
                            result.reconstructions, result.records)
@@ -164,20 +165,20 @@ def evaluate_dataset(dataset_dir: os.PathLike | str, methods: Sequence[str], *,
         samples.append(result.sample)
         records.extend(result.records)
     settings = {"dataset": str(dataset_dir), "methods": list(methods), "light_method": light_method,
-                "erode_pixels": ERODE_PIXELS}
+                "options": dict(options or {}), "erode_pixels": ERODE_PIXELS}
     return Evaluation(settings, samples, records)
 
 
-def paper_experiment(mozart_path: os.PathLike | str, methods: Sequence[str], *,
+def paper_experiment(mozart_path: os.PathLike | str, methods: Sequence[str], *, options: Optional[dict] = None,
                      figures_dir: Optional[os.PathLike | str] = None,
                      log: Callable[[str], None] = print) -> tuple[dict, SampleResult]:
     """The paper's experiment: the Mozart depth map rendered under light (1, 0, 1), every method.
 
-    True light and albedo, as in the paper. Returns the paper section of results.json (sample,
+    True light and albedo, as in the paper; ``options`` as for :func:`evaluate_sample`. Returns the paper section of results.json (sample,
     records, summary) and the SampleResult with the truth and reconstructions (for the 3-D figure).
     """
     truth = synthetic.mozart(mozart_path, PAPER_LIGHT)
-    result = evaluate_sample("mozart_paper", "mozart", truth, methods)
+    result = evaluate_sample("mozart_paper", "mozart", truth, methods, options=options)
     if figures_dir is not None:
         save_strip(Path(figures_dir) / "mozart_paper.png", "Mozart, light (1, 0, 1)", truth,
                    result.reconstructions, result.records)
