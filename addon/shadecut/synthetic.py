@@ -62,6 +62,39 @@ def sphere(light: Sequence[float], size: int = 128, radius_fraction: float = 0.4
     return _scene(normals, radius - height if bowl else height, mask, light, albedo)
 
 
+def torus(light: Sequence[float], size: int = 128, major: float = 0.3, minor: float = 0.14,
+          albedo: float = 1.0) -> Scene:
+    """A torus lying flat, seen from above: a tube of radius ``minor`` around a circle of radius
+    ``major`` (units of the image size). Its outline is two circles, both occluding contours; its inner
+    half is saddle-shaped."""
+    x, y = _pixel_grid(size)
+    radial = np.hypot(x, y)
+    across = radial - major * size  # from the tube's centre line, outward
+    height2 = (minor * size) ** 2 - across**2
+    mask = height2 > 0
+    height = np.sqrt(np.maximum(height2, 0))
+    outward = across / np.maximum(radial, 1e-9)
+    normals = np.dstack([outward * x, outward * y, height]) / (minor * size)
+    return _scene(normals, height, mask, light, albedo)
+
+
+def vase(light: Sequence[float], size: int = 128, albedo: float = 1.0) -> Scene:
+    """A surface of revolution about the image's vertical axis, seen from the side: radius
+    f(y) = size (0.22 + 0.09 cos(2.4 pi y / size)) (a belly and a neck) over |y| < 0.4 size; cut flat at
+    both ends."""
+    x, y = _pixel_grid(size)
+    k = 2.4 * np.pi / size
+    radius = size * (0.22 + 0.09 * np.cos(k * y))
+    radius_slope = -size * 0.09 * k * np.sin(k * y)  # df/dy
+    height2 = radius**2 - x**2
+    mask = (height2 > 0) & (np.abs(y) < 0.4 * size)
+    height = np.sqrt(np.maximum(height2, 0))
+    # x^2 + z^2 = f(y)^2: the gradient (x, -f f', z) is the normal.
+    normals = np.dstack([x, -radius * radius_slope, height])
+    normals /= np.linalg.norm(normals, axis=2, keepdims=True)
+    return _scene(normals, height, mask, light, albedo)
+
+
 # (centre x, centre y, sigma, amplitude) in units of the image size: three bumps and three dents on
 # a 3 x 2 layout, apart enough that each keeps its own shape.
 BUMPS = (

@@ -117,6 +117,7 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "fill_shadows", &ReconstructOptions::fill_shadows);
   option(options, names, "shadow_threshold", &ReconstructOptions::shadow_threshold);
   option(options, names, "occluding_contour", &ReconstructOptions::occluding_contour);
+  option(options, names, "contour_weight", &ReconstructOptions::contour_weight);
   option(options, names, "fit_shading", &ReconstructOptions::fit_shading);
   option(options, names, "fit_smoothness", &ReconstructOptions::fit_smoothness);
   option(options, names, "seamless", &ReconstructOptions::seamless);

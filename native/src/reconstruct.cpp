@@ -133,6 +133,7 @@ GlobalStepParams global_step_params(const ReconstructOptions& options) {
   params.energy.labels = options.labels;
   params.energy.data_weight = options.data_weight;
   params.energy.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight);
+  params.energy.contour_weight = edge_is_outline(options) ? options.contour_weight : 0.0;
   params.energy.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
   params.energy.threads = detail::default_thread_count();
   params.min_curvature = options.min_curvature.value_or(defaults.min_curvature);

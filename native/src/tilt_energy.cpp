@@ -1,7 +1,9 @@
 #include <shadecut/tilt_energy.hpp>
 
 #include <shadecut/errors.hpp>
+#include <shadecut/mask_components.hpp>
 
+#include "contour.hpp"
 #include "parallel.hpp"
 
 #include <algorithm>
@@ -19,6 +21,34 @@ constexpr float kProhibited = std::numeric_limits<float>::infinity();
 constexpr double kMinFrontFacing = 1e-6;
 // Slack of the dead-end test, so that float rounding never drops a label that could tie.
 constexpr float kDominanceSlack = 1e-5f;
+
+// Which connected parts of the mask are outlined by a silhouette (the surface turning away, normals
+// pointing out) rather than a rim (a bowl's edge, normals pointing in). At a silhouette the lit side
+// of the outline is the one facing the light, at a rim the one facing away: the brightness cos(s_p)
+// of the edge pixels, correlated with outward . S_xy, says which. Empty when the term is off.
+struct Outline {
+  MaskComponents components;
+  std::vector<char> silhouette;  // per component
+};
+
+Outline read_outline(const LocalShape& local, const LightFrame& light, const Mask& mask, double contour_weight) {
+  Outline outline;
+  if (!(contour_weight > 0.0)) return outline;
+  outline.components = mask_components(mask);
+  std::vector<double> vote(std::size_t(outline.components.count), 0.0);
+  const Eigen::Vector2d light_across = light.direction.head<2>();
+  for (int r = 0; r < mask.rows(); ++r) {
+    for (int c = 0; c < mask.cols(); ++c) {
+      if (!mask(r, c)) continue;
+      const Eigen::Vector2d outward = detail::contour_outward(mask, r, c);
+      if (outward.isZero()) continue;
+      const double brightness = std::cos(double(local.slant(r, c)));
+      vote[std::size_t(outline.components.labels(r, c))] += brightness * outward.dot(light_across);
+    }
+  }
+  for (double v : vote) outline.silhouette.push_back(v > 0.0);
+  return outline;
+}
 
 // Circular distance between two angles, in [0, pi].
 double angle_distance(double a, double b) {
@@ -44,6 +74,8 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     throw InvalidArgument("shadecut: data_weight must be finite and >= 0");
   if (!(params.undefined_weight >= 0.0) || !std::isfinite(params.undefined_weight))
     throw InvalidArgument("shadecut: undefined_weight must be finite and >= 0");
+  if (!(params.contour_weight >= 0.0) || !std::isfinite(params.contour_weight))
+    throw InvalidArgument("shadecut: contour_weight must be finite and >= 0");
   const int n = rows_ * cols_, k_count = labels_;
 
   chord_.resize(std::size_t(k_count));
@@ -72,13 +104,19 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
   // R_p(k) before dead-end elimination: +infinity where the normal faces away, or where eq. (10)
   // allows only the candidates.
   struct PixelTerms {
-    double sin_s = 0.0, nz_base = 0.0, nz_step = 0.0, t = 0.0;
+    double s = 0.0, sin_s = 0.0, nz_base = 0.0, nz_step = 0.0, t = 0.0;
     bool defined = false;
     int concave_label = 0, convex_label = 0;
+    Eigen::Vector2d outward = Eigen::Vector2d::Zero();  // zero off the outline
   };
+  const Outline outline = read_outline(local, light, mask, params.contour_weight);
   auto pixel_terms = [&](int p) {
     PixelTerms terms;
     const double s = local.slant.data()[p];
+    terms.s = s;
+    const int component = outline.silhouette.empty() ? -1 : outline.components.labels.data()[p];
+    if (component >= 0 && outline.silhouette[std::size_t(component)])
+      terms.outward = detail::contour_outward(mask, p / cols_, p % cols_);
     terms.sin_s = std::sin(s);
     // z of Rz(tS) Ry(sS) n'(s, theta) = nz_base - nz_step cos(theta): the rotation about z leaves it unchanged.
     terms.nz_base = cos_ls * std::cos(s);
@@ -90,15 +128,26 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     return terms;
   };
   auto label_nz = [&](const PixelTerms& terms, int k) { return terms.nz_base - terms.nz_step * cos_label[std::size_t(k)]; };
-  auto label_cost = [&](const PixelTerms& terms, int k) {
-    if (label_nz(terms, k) <= kMinFrontFacing) return kProhibited;
+  // The occluding contour's term (TiltEnergyParams::contour_weight); 0 off the outline.
+  auto contour_cost = [&](const PixelTerms& terms, int k) {
+    if (terms.outward.isZero()) return 0.0;
+    const Eigen::Vector3d n = light.normal(terms.s, label_angle[std::size_t(k)]);
+    const double across = n.head<2>().norm();
+    const double cos_d = across > 1e-9 ? n.head<2>().dot(terms.outward) / across : 0.0;
+    return params.contour_weight * 0.5 * (1.0 - cos_d);
+  };
+  auto data_cost_of = [&](const PixelTerms& terms, int k) -> double {
     const double angle = label_angle[std::size_t(k)];
-    if (!terms.defined) return float(params.undefined_weight * 2.0 * terms.sin_s * std::sin(0.5 * angle_distance(angle, M_PI)));
+    if (!terms.defined) return params.undefined_weight * 2.0 * terms.sin_s * std::sin(0.5 * angle_distance(angle, M_PI));
     if (params.data_term == DataTerm::Soft) {
       const double d = std::min(angle_distance(angle, terms.t), angle_distance(angle, terms.t + M_PI));
-      return float(params.data_weight * 2.0 * terms.sin_s * std::sin(0.5 * d));
+      return params.data_weight * 2.0 * terms.sin_s * std::sin(0.5 * d);
     }
-    return k == terms.concave_label || k == terms.convex_label ? 0.0f : kProhibited;
+    return k == terms.concave_label || k == terms.convex_label ? 0.0 : double(kProhibited);
+  };
+  auto label_cost = [&](const PixelTerms& terms, int k) {
+    if (label_nz(terms, k) <= kMinFrontFacing) return kProhibited;
+    return float(data_cost_of(terms, k) + contour_cost(terms, k));
   };
 
   // The windows: a pixel with a band centre keeps the band (or only its centre, when frozen), unless

@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -111,6 +113,61 @@ TEST(ConvexityCut, TurnsTheBowlConcaveAndLowersTheEnergy) {
     ++decided;
   }
   EXPECT_GT(concave, 0.99 * decided);
+}
+
+TEST(TiltEnergy, TheOutlineFavoursNormalsPointingOutOfTheSilhouette) {
+  const Eigen::Vector3d light(0.5, 0.3, 1.0);
+  const testing::Scene scene = testing::sphere_scene(48, 0.4, light);
+  const LightFrame frame = LightFrame::from_direction(light);
+  const LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, 1e-3);
+  TiltEnergyParams params;
+  const TiltEnergy without(local, frame, scene.mask, params);
+  params.contour_weight = 2.0;
+  const TiltEnergy with(local, frame, scene.mask, params);
+  const double centre = 0.5 * (48 - 1);
+  int outline = 0, compared = 0;
+  for (int r = 1; r < 47; ++r) {
+    for (int c = 1; c < 47; ++c) {
+      if (!scene.mask(r, c)) continue;
+      const int p = r * 48 + c;
+      const bool on_edge = !scene.mask(r - 1, c) || !scene.mask(r + 1, c) || !scene.mask(r, c - 1) || !scene.mask(r, c + 1);
+      outline += on_edge;
+      for (int k = 0; k < with.labels(); ++k) {
+        if (!with.allowed(p, k) || !without.allowed(p, k)) continue;
+        const double added = double(with.data_cost(p, k)) - double(without.data_cost(p, k));
+        if (!on_edge) {
+          EXPECT_NEAR(added, 0.0, 1e-6);
+          continue;
+        }
+        // Independently: the label's normal against the direction from the disc's centre.
+        const Eigen::Vector3d n = frame.normal(local.slant(r, c), with.label_tilt(k));
+        const Eigen::Vector2d radial = Eigen::Vector2d(c - centre, centre - r).normalized();
+        const double d = std::acos(std::clamp(n.head<2>().normalized().dot(radial), -1.0, 1.0));
+        // contour_outward is the 4-neighbour edge direction, within 45 degrees of the radial one.
+        EXPECT_LE(added, 2.0 * 0.5 * (1.0 - std::cos(std::min(M_PI, d + M_PI / 4))) + 1e-6);
+        EXPECT_GE(added, 2.0 * 0.5 * (1.0 - std::cos(std::max(0.0, d - M_PI / 4))) - 1e-6);
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(outline, 50);
+  EXPECT_GT(compared, 500);
+  params.contour_weight = -1.0;
+  EXPECT_THROW(TiltEnergy(local, frame, scene.mask, params), InvalidArgument);
+}
+
+TEST(TiltEnergy, ABowlsRimGetsNoOutlineTerm) {
+  // Brighter on the side facing away from the light: a rim, whose normals point inward.
+  const Eigen::Vector3d light(0.5, 0.3, 1.0);
+  const testing::Scene bowl = testing::sphere_scene(48, 0.4, light, true);
+  const LightFrame frame = LightFrame::from_direction(light);
+  const LocalShape local = local_shape(bowl.image, bowl.mask, frame, 1.0, 1e-3);
+  TiltEnergyParams params;
+  const TiltEnergy without(local, frame, bowl.mask, params);
+  params.contour_weight = 2.0;
+  const TiltEnergy with(local, frame, bowl.mask, params);
+  for (int p = 0; p < 48 * 48; ++p)
+    for (int k = 0; k < with.labels(); ++k) ASSERT_EQ(with.data_cost(p, k), without.data_cost(p, k));
 }
 
 TEST(TiltEnergy, RejectsTooFewLabels) {

@@ -97,6 +97,9 @@ struct ReconstructOptions {
   bool fill_shadows = true;                 ///< interpolate normals in attached shadows (fill_normals)
   double shadow_threshold = 1e-3;           ///< relative intensity at or below which a pixel is in shadow
   bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling (objects)
+  /// graphcut, graphcut_two, objects with occluding_contour: TiltEnergyParams::contour_weight, the
+  /// pull of the outline's pixels toward normals pointing outward. Tuned (docs/parameters.md).
+  double contour_weight = 0.0;
   /// graphcut: after integration, fit the depth to the image (fit_shading.hpp): the
   /// normals are then the depth's, integrable, and render closer to the image. Not with seamless.
   /// Off by default: it wins on the training surfaces but adds 3.4-6.1 s to a call of 0.08-1.1 s

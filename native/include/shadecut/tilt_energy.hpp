@@ -32,6 +32,13 @@ struct TiltEnergyParams {
   /// toward tilt pi (the normal turned from the light toward the viewer, the local method's own choice
   /// there) settles what the neighbours leave open: R_p(theta) = w 2 sin(s_p) sin(|theta - pi| / 2).
   double undefined_weight = 0.0;
+  /// On the mask's edge, where it is the object's outline (an occluding contour: the surface turns
+  /// away there, its normal pointing outward), label theta costs contour_weight (1 - cos d) / 2 more,
+  /// d the angle between the outward direction of the edge and the image-plane direction of the
+  /// label's normal: an object seen whole is convex at its outline. Only on the mask's parts whose
+  /// edge reads as a silhouette: brighter where it faces the light (a bowl's rim, brighter where it
+  /// faces away, gets no term). 0 = no such term (reliefs).
+  double contour_weight = 0.0;
   DataTerm data_term = DataTerm::Soft;
   int threads = 0;             ///< threads for building the tables; 0 = all cores
   /// Coarse to fine: with band >= 0, a masked pixel p with (*band_centre)[p] >= 0 (a label, one per
