@@ -98,7 +98,8 @@ struct ReconstructOptions {
   double shadow_threshold = 1e-3;           ///< relative intensity at or below which a pixel is in shadow
   bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling (objects)
   /// graphcut, graphcut_two, objects with occluding_contour: TiltEnergyParams::contour_weight, the
-  /// pull of the outline's pixels toward normals pointing outward. Tuned (docs/parameters.md).
+  /// pull of the outline's pixels toward normals pointing outward. Off: the tuning procedure's
+  /// training surfaces hold no torus- or vase-like object yet to choose it on (docs/method.md).
   double contour_weight = 0.0;
   /// graphcut: after integration, fit the depth to the image (fit_shading.hpp): the
   /// normals are then the depth's, integrable, and render closer to the image. Not with seamless.
