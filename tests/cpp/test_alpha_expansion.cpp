@@ -115,15 +115,31 @@ TEST(ConvexityCut, TurnsTheBowlConcaveAndLowersTheEnergy) {
   EXPECT_GT(concave, 0.99 * decided);
 }
 
+// The soft energy of a scene without the outline term and with contour_weight 2.
+struct ContourEnergies {
+  ContourEnergies(const testing::Scene& scene, const Eigen::Vector3d& light)
+      : frame(LightFrame::from_direction(light)),
+        local(local_shape(scene.image, scene.mask, frame, 1.0, 1e-3)),
+        without(local, frame, scene.mask, TiltEnergyParams{}),
+        with(local, frame, scene.mask, with_contour()) {}
+  static TiltEnergyParams with_contour() {
+    TiltEnergyParams params;
+    params.contour_weight = 2.0;
+    return params;
+  }
+  LightFrame frame;
+  LocalShape local;
+  TiltEnergy without, with;
+};
+
 TEST(TiltEnergy, TheOutlineFavoursNormalsPointingOutOfTheSilhouette) {
   const Eigen::Vector3d light(0.5, 0.3, 1.0);
   const testing::Scene scene = testing::sphere_scene(48, 0.4, light);
-  const LightFrame frame = LightFrame::from_direction(light);
-  const LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, 1e-3);
+  const ContourEnergies energies(scene, light);
+  const LightFrame& frame = energies.frame;
+  const LocalShape& local = energies.local;
+  const TiltEnergy &without = energies.without, &with = energies.with;
   TiltEnergyParams params;
-  const TiltEnergy without(local, frame, scene.mask, params);
-  params.contour_weight = 2.0;
-  const TiltEnergy with(local, frame, scene.mask, params);
   const double centre = 0.5 * (48 - 1);
   int outline = 0, compared = 0;
   for (int r = 1; r < 47; ++r) {
@@ -159,15 +175,9 @@ TEST(TiltEnergy, TheOutlineFavoursNormalsPointingOutOfTheSilhouette) {
 TEST(TiltEnergy, ABowlsRimGetsNoOutlineTerm) {
   // Brighter on the side facing away from the light: a rim, whose normals point inward.
   const Eigen::Vector3d light(0.5, 0.3, 1.0);
-  const testing::Scene bowl = testing::sphere_scene(48, 0.4, light, true);
-  const LightFrame frame = LightFrame::from_direction(light);
-  const LocalShape local = local_shape(bowl.image, bowl.mask, frame, 1.0, 1e-3);
-  TiltEnergyParams params;
-  const TiltEnergy without(local, frame, bowl.mask, params);
-  params.contour_weight = 2.0;
-  const TiltEnergy with(local, frame, bowl.mask, params);
+  const ContourEnergies energies(testing::sphere_scene(48, 0.4, light, true), light);
   for (int p = 0; p < 48 * 48; ++p)
-    for (int k = 0; k < with.labels(); ++k) ASSERT_EQ(with.data_cost(p, k), without.data_cost(p, k));
+    for (int k = 0; k < energies.with.labels(); ++k) ASSERT_EQ(energies.with.data_cost(p, k), energies.without.data_cost(p, k));
 }
 
 TEST(TiltEnergy, RejectsTooFewLabels) {

@@ -29,6 +29,15 @@ ExactScene exact_sphere() {
   return exact;
 }
 
+// The sphere's depth with a smooth dent of 4 pixels on its upper left, which the image does not show.
+ImageF dented(const ExactScene& exact) {
+  ImageF depth = exact.scene.depth;
+  for (int r = 0; r < depth.rows(); ++r)
+    for (int c = 0; c < depth.cols(); ++c)
+      if (exact.scene.mask(r, c)) depth(r, c) -= 4.0f * std::exp(-float((r - 35) * (r - 35) + (c - 40) * (c - 40)) / 150.0f);
+  return depth;
+}
+
 TEST(FitShading, LeavesADepthThatExplainsTheImage) {
   const ExactScene exact = exact_sphere();
   ImageF depth = exact.scene.depth;
@@ -38,42 +47,41 @@ TEST(FitShading, LeavesADepthThatExplainsTheImage) {
   EXPECT_LT((depth - exact.scene.depth).abs().maxCoeff(), 1e-3f);
 }
 
-TEST(FitShading, AWrongDepthComesBackTowardTheTruth) {
+// fit_shading from the dented sphere: its stats and the normals' mean error before and after (degrees).
+struct DentFit {
+  FitShadingStats stats;
+  double error_before = 0.0, error_after = 0.0;
+};
+
+DentFit fit_dented(const FitShadingParams& params) {
   const ExactScene exact = exact_sphere();
   const Mask& mask = exact.scene.mask;
-  // A smooth dent of 4 pixels on the sphere's upper left: the image does not show it.
-  ImageF depth = exact.scene.depth;
-  for (int r = 0; r < 96; ++r)
-    for (int c = 0; c < 96; ++c)
-      if (mask(r, c)) depth(r, c) -= 4.0f * std::exp(-float((r - 35) * (r - 35) + (c - 40) * (c - 40)) / 150.0f);
+  ImageF depth = dented(exact);
   const Mask inner = erode_mask(mask, 2);
-  const double error_before = mean_angular_error(normals_from_depth(depth, mask), exact.scene.normals, inner);
-  const FitShadingStats stats = fit_shading(depth, exact.image, mask, mask, kLight, 0.8, {});
-  const double error_after = mean_angular_error(normals_from_depth(depth, mask), exact.scene.normals, inner);
-  SCOPED_TRACE(::testing::Message() << "residual " << stats.residual_before << " -> " << stats.residual_after
-                                    << ", error " << error_before << " -> " << error_after << " deg, " << stats.steps << " steps");
-  EXPECT_LT(stats.residual_after, 0.1 * stats.residual_before);
-  EXPECT_LT(error_after, 0.5 * error_before);
+  DentFit fit;
+  fit.error_before = mean_angular_error(normals_from_depth(depth, mask), exact.scene.normals, inner);
+  fit.stats = fit_shading(depth, exact.image, mask, mask, kLight, 0.8, params);
+  fit.error_after = mean_angular_error(normals_from_depth(depth, mask), exact.scene.normals, inner);
+  return fit;
+}
+
+TEST(FitShading, AWrongDepthComesBackTowardTheTruth) {
+  const DentFit fit = fit_dented({});
+  SCOPED_TRACE(::testing::Message() << "residual " << fit.stats.residual_before << " -> " << fit.stats.residual_after
+                                    << ", error " << fit.error_before << " -> " << fit.error_after << " deg");
+  EXPECT_LT(fit.stats.residual_after, 0.1 * fit.stats.residual_before);
+  EXPECT_LT(fit.error_after, 0.5 * fit.error_before);
 }
 
 TEST(FitShading, ALargeObjectIsFittedOnBlocksAndStillComesBackTowardTheTruth) {
-  const ExactScene exact = exact_sphere();
-  const Mask& mask = exact.scene.mask;
-  ImageF depth = exact.scene.depth;
-  for (int r = 0; r < 96; ++r)
-    for (int c = 0; c < 96; ++c)
-      if (mask(r, c)) depth(r, c) -= 4.0f * std::exp(-float((r - 35) * (r - 35) + (c - 40) * (c - 40)) / 150.0f);
-  const Mask inner = erode_mask(mask, 2);
-  const double error_before = mean_angular_error(normals_from_depth(depth, mask), exact.scene.normals, inner);
   FitShadingParams blocks;
   blocks.max_object_size = 32.0;  // the sphere is about 76 pixels across: blocks of 3 x 3
-  const FitShadingStats stats = fit_shading(depth, exact.image, mask, mask, kLight, 0.8, blocks);
-  const double error_after = mean_angular_error(normals_from_depth(depth, mask), exact.scene.normals, inner);
-  SCOPED_TRACE(::testing::Message() << "residual " << stats.residual_before << " -> " << stats.residual_after
-                                    << ", error " << error_before << " -> " << error_after << " deg");
-  EXPECT_GT(stats.steps, 0);
-  EXPECT_LT(stats.residual_after, stats.residual_before);
-  EXPECT_LT(error_after, error_before);
+  const DentFit fit = fit_dented(blocks);
+  SCOPED_TRACE(::testing::Message() << "residual " << fit.stats.residual_before << " -> " << fit.stats.residual_after
+                                    << ", error " << fit.error_before << " -> " << fit.error_after << " deg");
+  EXPECT_GT(fit.stats.steps, 0);
+  EXPECT_LT(fit.stats.residual_after, fit.stats.residual_before);
+  EXPECT_LT(fit.error_after, fit.error_before);
 }
 
 TEST(FitShading, NeverExplainsTheImageWorseThanTheIntegratedDepth) {
