@@ -132,18 +132,23 @@ FitShadingStats fit_at_resolution(ImageF& depth, const ImageF& image, const Mask
   stats.residual_before = stats.residual_after = current.sum_of_squares;
   double cost = cost_of(z, current.sum_of_squares);
   double damping = 1e-3;
+  // The constant of the damping keeps the depth's free offset determined, and puts every diagonal
+  // entry in the pattern (an isolated pixel has none otherwise).
+  SparseMatrix regularization(unknowns, unknowns);
+  regularization.setIdentity();
+  regularization *= 1e-9;
   Eigen::SimplicialLDLT<SparseMatrix> solver;
   for (int step = 0; step < params.max_steps; ++step) {
     progress.report(double(step) / params.max_steps, "fit_shading");
     const SparseMatrix jacobian = current.by_p.asDiagonal() * operators.dx + current.by_q.asDiagonal() * operators.dy;
-    const SparseMatrix normal = SparseMatrix(jacobian.transpose() * jacobian) + smoothing;
+    const SparseMatrix normal = SparseMatrix(jacobian.transpose() * jacobian) + smoothing + regularization;
     const Eigen::VectorXd gradient = jacobian.transpose() * current.residual + smoothing * (z - start);
-    if (step == 0) solver.analyzePattern(normal);  // the pattern holds a superset of any step's
+    // Sparse products keep explicit zeros, so every step's matrix has the pattern of the first.
+    if (step == 0) solver.analyzePattern(normal);
     bool improved = false;
     while (damping < 1e8) {
-      // Levenberg-Marquardt's scaled damping; the constant keeps the depth's free offset determined.
-      SparseMatrix damped = normal;
-      for (int i = 0; i < unknowns; ++i) damped.coeffRef(i, i) += damping * normal.coeff(i, i) + 1e-9;
+      SparseMatrix damped = normal;  // Levenberg-Marquardt's damping, scaled by the diagonal
+      damped.diagonal() += damping * normal.diagonal();
       solver.factorize(damped);
       if (solver.info() != Eigen::Success) throw InvalidArgument("shadecut: fit_shading's linear solve failed");
       const Eigen::VectorXd trial = z - solver.solve(gradient);

@@ -107,6 +107,22 @@ TEST(FitShading, NeverExplainsTheImageWorseThanTheIntegratedDepth) {
   EXPECT_LT(error_fitted, error_integrated - 3.0);
 }
 
+TEST(FitShading, AnIsolatedPixelLeavesTheSolveWellPosed) {
+  // A pixel with no masked neighbour has no difference and no smoothness term: only the damping's
+  // constant holds its depth, which must stay in the factorized pattern.
+  ExactScene exact = exact_sphere();
+  Mask mask = exact.scene.mask;
+  mask(2, 2) = true;
+  exact.image(2, 2) = 0.5f;
+  ImageF depth = dented(exact);
+  depth(2, 2) = 1.0f;
+  const FitShadingStats stats = fit_shading(depth, exact.image, mask, mask, kLight, 0.8, {});
+  EXPECT_GT(stats.steps, 0);
+  EXPECT_LE(stats.residual_after, stats.residual_before);
+  EXPECT_TRUE(depth.allFinite());
+  EXPECT_NEAR(depth(2, 2), 1.0f, 1e-3f);
+}
+
 TEST(FitShading, RejectsBadInput) {
   const ExactScene exact = exact_sphere();
   ImageF depth = exact.scene.depth;
