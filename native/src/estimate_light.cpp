@@ -15,9 +15,6 @@ namespace shadecut {
 
 namespace {
 
-// A light at the horizon has S_z = 0, which reconstruct() rejects; an estimate stops just above it.
-constexpr double kMaxSlant = 89.0 * M_PI / 180.0;
-
 // Moments of the image of a unit-albedo Lambertian sphere seen whole, light at slant s, attached
 // shadow included: E1 = mean of max(0, n.S), E2 = mean of max(0, n.S)^2 over the disc.
 double shadowed_mean(double s) { return 2.0 * ((M_PI - s) * std::cos(s) + std::sin(s)) / (3.0 * M_PI); }
@@ -71,11 +68,11 @@ LightEstimate estimate_light(const ImageF& image_in, const Mask& mask, LightMeth
   if (method == LightMethod::LeeRosenfeld) {
     // ratio = (16/9) c^2 / (1 + c^2) with c = cos(slant); every ratio >= 8/9 means a frontal light.
     const double c2 = ratio >= 8.0 / 9.0 ? 1.0 : ratio / (16.0 / 9.0 - ratio);
-    estimate.slant = std::min(kMaxSlant, std::acos(std::sqrt(c2)));
+    estimate.slant = std::min(kMaxEstimatedSlant, std::acos(std::sqrt(c2)));
     estimate.albedo = mean / (2.0 / 3.0 * std::cos(estimate.slant));
   } else {
     // mean^2 / mean_square falls monotonically from 8/9 (frontal) to 32 / (9 pi^2) (grazing).
-    double low = 0.0, high = kMaxSlant;
+    double low = 0.0, high = kMaxEstimatedSlant;
     auto ratio_at = [](double s) { return std::pow(shadowed_mean(s), 2) / shadowed_mean_square(s); };
     if (ratio >= ratio_at(low)) {
       high = low;

@@ -16,9 +16,6 @@ namespace shadecut::detail {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-// A light at the horizon has S_z = 0, which reconstruct() rejects; an estimate stops just above it.
-const double kMinLightZ = std::cos(89.0 * kPi / 180.0);
 // The share of the relief's pixels brighter than the one taken to face the light: a robust maximum,
 // which a few saturated or noisy pixels do not move.
 constexpr double kBrightestShare = 0.005;
@@ -50,7 +47,7 @@ std::vector<std::complex<double>> periodic_spectrum(const std::vector<double>& f
   fourier_2d(boundary, rows, cols, FourierDirection::Forward);
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
-      const double laplacian = 2.0 * std::cos(2.0 * kPi * r / rows) + 2.0 * std::cos(2.0 * kPi * c / cols) - 4.0;
+      const double laplacian = 2.0 * std::cos(2.0 * M_PI * r / rows) + 2.0 * std::cos(2.0 * M_PI * c / cols) - 4.0;
       if (r == 0 && c == 0) continue;
       spectrum[at(r, c)] -= boundary[at(r, c)] / laplacian;
     }
@@ -73,17 +70,17 @@ double tilt_axis(const std::vector<double>& field, int rows, int cols) {
       const double w2 = wx * wx + wy * wy;
       if (w2 == 0.0) continue;
       double direction = std::atan2(wy, wx);
-      if (direction < 0.0) direction += kPi;
-      const int bin = std::min(kDirections - 1, int(direction / kPi * kDirections));
+      if (direction < 0.0) direction += M_PI;
+      const int bin = std::min(kDirections - 1, int(direction / M_PI * kDirections));
       energy[std::size_t(bin)] += std::norm(spectrum[std::size_t(r) * std::size_t(cols) + std::size_t(c)]) / w2;
     }
   }
   double best_tilt = 0.0, least = INFINITY;
   for (int t = 0; t < kDirections; ++t) {
-    const double tilt = kPi * t / kDirections;
+    const double tilt = M_PI * t / kDirections;
     double implied = 0.0;
     for (int b = 0; b < kDirections; ++b) {
-      const double along = std::cos(kPi * (b + 0.5) / kDirections - tilt);
+      const double along = std::cos(M_PI * (b + 0.5) / kDirections - tilt);
       implied += energy[std::size_t(b)] / (along * along + kAxisSoftening);
     }
     if (implied < least) least = implied, best_tilt = tilt;
@@ -116,7 +113,7 @@ LightEstimate estimate_relief_light(const ImageF& image, const Mask& mask, std::
       if (mask(r, c)) field[std::size_t(r) * std::size_t(cols) + std::size_t(c)] = double(image(r, c)) - median;
 
   LightEstimate estimate;
-  const double light_z = std::clamp(median / brightest, kMinLightZ, 1.0);
+  const double light_z = std::clamp(median / brightest, std::cos(kMaxEstimatedSlant), 1.0);
   estimate.slant = std::acos(light_z);
   estimate.tilt = tilt_axis(field, rows, cols);
   estimate.albedo = median / light_z;

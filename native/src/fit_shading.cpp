@@ -259,13 +259,16 @@ FitShadingStats fit_shading(ImageF& depth, const ImageF& image, const Mask& mask
       upsample((coarse_depth - start) * float(factor), coarse.mask, factor, int(depth.rows()), int(depth.cols()));
   // The guarantee holds at the image's own resolution: the largest share of the correction that does
   // not raise the residual there (none at worst).
+  const int coarse_steps = stats.steps;
   stats.residual_before = stats.residual_after = brightness_residual(depth, image, mask, fitted, light, albedo);
+  stats.steps = 0;  // until a share of the coarse steps' correction is applied
   for (float share = 1.0f; share >= 0.125f; share *= 0.5f) {
     const ImageF corrected = mask.select(depth + share * correction, depth);
     const double residual = brightness_residual(corrected, image, mask, fitted, light, albedo);
     if (residual <= stats.residual_before) {
       depth = corrected;
       stats.residual_after = residual;
+      stats.steps = coarse_steps;
       break;
     }
   }

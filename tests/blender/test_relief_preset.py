@@ -3,9 +3,9 @@ result is a flat slab (height range at most 5% of its width), and Subject = Obje
 
 The image is shadecut.synthetic's brick wall (running bond, 4 px deep mortar grooves, +-5% albedo
 noise), saved as a 16-bit sRGB PNG and loaded as the add-on's input; every other setting is the
-add-on's default (light estimated, for a relief by the relief estimator). The true wall's relief is 4 px over the image's width (1.6% at
-256 px), so a faithful relief keeps well inside the bound; what the bound catches is the slab
-bending or tilting as a whole.
+add-on's default (light estimated, for a relief by the relief estimator). The true wall's relief
+is 4 px over the image's width (1.6% at 256 px), so a faithful relief keeps well inside the bound;
+what the bound catches is the slab bending or tilting as a whole.
 """
 
 import bpy

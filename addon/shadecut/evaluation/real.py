@@ -165,6 +165,7 @@ def evaluate_real(objects: dict[str, Path], methods: Sequence[str], *, options: 
         log(f"real photographs: {name} ({folder})")
         parts[name] = evaluate_object(folder, methods, options=options, figures_dir=figures_dir, log=log)
     settings = {"source": "DiLiGenT", "citation": diligent.CITATION, "methods": list(methods),
-                "estimator": default_estimator(), "options": dict(options or {}), "albedo": "estimated", "erode_pixels": ERODE_PIXELS,
+                "estimator": default_estimator(), "options": dict(options or {}), "albedo": "estimated",
+                "erode_pixels": ERODE_PIXELS,
                 "objects": {name: str(folder) for name, folder in objects.items()}}
     return {"settings": settings, "objects": parts}

@@ -135,14 +135,15 @@ def _progress_line(index: int, total: int, result: SampleResult) -> str:
 
 
 def evaluate_dataset(dataset_dir: os.PathLike | str, methods: Sequence[str], *,
-                     light_method: Optional[str] = None, options: Optional[dict] = None, figures_dir: Optional[os.PathLike | str] = None,
+                     light_method: Optional[str] = None, options: Optional[dict] = None,
+                     figures_dir: Optional[os.PathLike | str] = None,
                      log: Callable[[str], None] = print) -> Evaluation:
     """Evaluates every sample of a dataset (made by make_dataset.py or dataset.write_sample).
 
     ``light_method``: None = the true light and albedo; else the estimator that gives them;
-    ``options``: set for every method (see :func:`evaluate_sample`). Prints one progress line per sample through ``log``; with
-    ``figures_dir``, writes a strip per sample there (``<id>.png``). A sample whose files cannot be
-    read is recorded as failed for every method.
+    ``options``: set for every method (see :func:`evaluate_sample`). Prints one progress line per
+    sample through ``log``; with ``figures_dir``, writes a strip per sample there (``<id>.png``). A
+    sample whose files cannot be read is recorded as failed for every method.
     """
     dataset_dir = Path(dataset_dir)
     entries = read_manifest(dataset_dir)
@@ -174,8 +175,9 @@ def paper_experiment(mozart_path: os.PathLike | str, methods: Sequence[str], *, 
                      log: Callable[[str], None] = print) -> tuple[dict, SampleResult]:
     """The paper's experiment: the Mozart depth map rendered under light (1, 0, 1), every method.
 
-    True light and albedo, as in the paper; ``options`` as for :func:`evaluate_sample`. Returns the paper section of results.json (sample,
-    records, summary) and the SampleResult with the truth and reconstructions (for the 3-D figure).
+    True light and albedo, as in the paper; ``options`` as for :func:`evaluate_sample`. Returns the
+    paper section of results.json (sample, records, summary) and the SampleResult with the truth and
+    reconstructions (for the 3-D figure).
     """
     truth = synthetic.mozart(mozart_path, PAPER_LIGHT)
     result = evaluate_sample("mozart_paper", "mozart", truth, methods, options=options)

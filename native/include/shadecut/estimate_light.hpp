@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,8 +37,12 @@ const std::vector<std::string>& light_method_names();
 LightMethod parse_light_method(const std::string& name);
 std::string to_string(LightMethod estimator);
 
+/// The largest slant an estimate gives (radians, 89 degrees): a light at the horizon has S_z = 0,
+/// which reconstruct() rejects, so every estimator stops just above it.
+constexpr double kMaxEstimatedSlant = 89.0 * M_PI / 180.0;
+
 struct LightEstimate {
-  Eigen::Vector3d light;  ///< unit vector toward the light, camera frame; slant clamped to <= 89 degrees
+  Eigen::Vector3d light;  ///< unit vector toward the light, camera frame; slant <= kMaxEstimatedSlant
   double albedo = 0.0;    ///< > 0
   double slant = 0.0;     ///< radians, the angle between the light and the viewing direction
   double tilt = 0.0;      ///< radians, atan2(S_y, S_x); 0 when the image has no gradient at all
@@ -47,8 +52,9 @@ struct LightEstimate {
 ///
 /// lee_rosenfeld and zheng_chellappa assume that the surface normals in the mask are spread like
 /// those of a sphere seen whole (uniformly over the visible hemisphere in image area), and that the
-/// mask covers the object only: background pixels bias the moments. relief assumes a relief. Derivatives are central differences between
-/// masked pixels (y up), taken where both axes have a masked neighbour.
+/// mask covers the object only: background pixels bias the moments. relief assumes a relief.
+/// Derivatives are central differences between masked pixels (y up), taken where both axes have a
+/// masked neighbour.
 ///
 /// The image is read clipped at `ceiling`, the albedo: above it no Lambertian surface of that albedo
 /// shows, and a highlight or saturated spot would pull the light toward it. On a clean image the

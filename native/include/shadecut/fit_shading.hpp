@@ -27,7 +27,7 @@ struct FitShadingParams {
 struct FitShadingStats {
   double residual_before = 0.0;    ///< sum over the fitted pixels of (rho max(0, n . S) - I)^2, start depth
   double residual_after = 0.0;     ///< the same for the returned depth; never above residual_before
-  int steps = 0;                   ///< accepted steps
+  int steps = 0;                   ///< accepted steps (on blocks: theirs, 0 if none of their correction applies)
 };
 
 /// Refines `depth` (z0) to minimize
