@@ -1,5 +1,6 @@
 // Whole-call and per-stage timings of reconstruct() at 256, 512 and 1024 pixels square (the
 // comparison methods brooks_horn and tsai_shah at 256 and 512), default parameters of each method;
+// upwind: the viscosity-solution baseline (to 1024: it is meant for photographs too);
 // *_exact: one level, every label (coarse_to_fine_band = -1); graphcut_band2: a band of two label steps;
 // graphcut_fit: fit_shading on (its stage's share in the fit_shading_ms counter).
 //
@@ -93,6 +94,7 @@ void register_reconstruct_benchmarks() {
       {"lee_rosenfeld/frankot_chellappa", Method::LeeRosenfeld, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"brooks_horn/frankot_chellappa", Method::BrooksHorn, Integrator::FrankotChellappa, {256, 512}},
       {"tsai_shah/frankot_chellappa", Method::TsaiShah, Integrator::FrankotChellappa, {256, 512}},
+      {"upwind/frankot_chellappa", Method::Upwind, Integrator::FrankotChellappa, {256, 512, 1024}},
   };
   for (const Case& c : cases) {
     auto* bench = benchmark::RegisterBenchmark((std::string("BM_Reconstruct/") + c.name).c_str(), BM_Reconstruct,

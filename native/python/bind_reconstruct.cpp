@@ -86,7 +86,7 @@ py::array view(const py::object& owner, std::vector<py::ssize_t> shape, const fl
 
 void bind_reconstruct(py::module_& m) {
   bind_enum<Method>(m, "Method", "Reconstruction methods (docs/method.md)",
-                    {Method::GraphCut, Method::GraphCutTwo, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah});
+                    {Method::GraphCut, Method::GraphCutTwo, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah, Method::Upwind});
   bind_enum<Integrator>(m, "Integrator", "Normal integrators", {Integrator::Poisson, Integrator::FrankotChellappa});
   bind_enum<LightMethod>(m, "LightMethod", "Light estimators",
                          {LightMethod::LeeRosenfeld, LightMethod::ZhengChellappa, LightMethod::Relief});
@@ -148,7 +148,7 @@ void bind_reconstruct(py::module_& m) {
       .def_readonly("seconds", &ReconstructStats::seconds, "seconds per stage run, and 'total'")
       .def_readonly("energy_per_cycle", &ReconstructStats::energy_per_cycle, "initial energy, then after every cycle")
       .def_readonly("cycles", &ReconstructStats::cycles)
-      .def_readonly("iterations", &ReconstructStats::iterations, "cycles, or brooks_horn / tsai_shah sweeps")
+      .def_readonly("iterations", &ReconstructStats::iterations, "cycles, brooks_horn / tsai_shah sweeps, or upwind rounds")
       .def_readonly("light_estimated", &ReconstructStats::light_estimated)
       .def_readonly("moves", &ReconstructStats::moves)
       .def_readonly("accepted_moves", &ReconstructStats::accepted_moves)

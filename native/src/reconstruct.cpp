@@ -10,6 +10,7 @@
 #include <shadecut/render.hpp>
 #include <shadecut/shadow_fill.hpp>
 #include <shadecut/tsai_shah.hpp>
+#include <shadecut/upwind.hpp>
 #include <shadecut/validate.hpp>
 
 #include "enum_names.hpp"
@@ -182,6 +183,14 @@ NormalMap solve_normals(const ImageF& image, const Mask& mask, const LightFrame&
       stats.iterations = solved.iterations;
       return normals_from_depth(solved.depth, mask);
     }
+    case Method::Upwind: {
+      progress.report(0.0, "upwind");
+      const int rounds = options.iterations.value_or(method_defaults(Method::Upwind).iterations);
+      const UpwindResult solved = upwind(image, mask, frame, albedo, rounds, progress);
+      stats.seconds["upwind"] = stopwatch.seconds();
+      stats.iterations = solved.iterations;
+      return normals_from_depth(solved.depth, mask);
+    }
     case Method::LeeRosenfeld: {
       progress.report(0.0, "local");
       const double min_curvature = options.min_curvature.value_or(method_defaults(Method::LeeRosenfeld).min_curvature);
@@ -213,7 +222,7 @@ LightMethod light_method_used(const ReconstructOptions& options) {
 }
 
 const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names{"graphcut", "graphcut_two", "lee_rosenfeld", "brooks_horn", "tsai_shah"};
+  static const std::vector<std::string> names{"graphcut", "graphcut_two", "lee_rosenfeld", "brooks_horn", "tsai_shah", "upwind"};
   return names;
 }
 
@@ -228,6 +237,7 @@ MethodDefaults method_defaults(Method method) {
     case Method::LeeRosenfeld: return {2.0, 0.0, 0.0, 0, 0.0};
     case Method::BrooksHorn: return {0.0, 0.0, 1e-5, 8000, 0.3};
     case Method::TsaiShah: return {0.0, 0.0, 0.0, 1, 0.0};
+    case Method::Upwind: return {0.0, 0.0, 0.0, 100, 0.0};
   }
   throw InvalidArgument("shadecut: unknown method");
 }

@@ -28,7 +28,7 @@ TEST(Reconstruct, GraphCutRecoversSphereAndBowl) {
 TEST(Reconstruct, OneThreadAndTwoGiveTheSameBits) {
   const Eigen::Vector3d light(0.7, 0.2, 1);
   const testing::Scene scene = testing::sphere_scene(600, 0.45, light);  // parallel integration from 2^18 pixels
-  for (Method method : {Method::GraphCut, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah}) {
+  for (Method method : {Method::GraphCut, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah, Method::Upwind}) {
     ReconstructOptions options;
     options.method = method;
     options.iterations = method == Method::BrooksHorn ? std::optional<int>(50) : std::nullopt;
@@ -45,7 +45,8 @@ TEST(Reconstruct, OneThreadAndTwoGiveTheSameBits) {
 TEST(Reconstruct, NoMethodReturnsANormalFacingAway) {
   const Eigen::Vector3d light(-0.939, 1.867, 1);
   const testing::Scene scene = testing::sphere_scene(96, 0.45, light);
-  for (Method method : {Method::GraphCut, Method::GraphCutTwo, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah}) {
+  for (const std::string& name : method_names()) {
+    const Method method = parse_method(name);
     ReconstructOptions options;
     options.method = method;
     const Reconstruction result = reconstruct(scene.image, light, &scene.mask, 1.0, options);

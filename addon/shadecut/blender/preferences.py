@@ -14,6 +14,7 @@ METHOD_DESCRIPTIONS = {
     "lee_rosenfeld": ("Lee & Rosenfeld", "The local method alone, assuming a convex surface"),
     "brooks_horn": ("Brooks & Horn", "Global variational method (brightness, smoothness, unit normals)"),
     "tsai_shah": ("Tsai & Shah", "Local linear approximation of the reflectance map, Newton steps on depth"),
+    "upwind": ("Upwind (viscosity)", "The image's PDE solved outward from the outline by upwind sweeps: a convex object"),
 }
 
 METHOD_ITEMS = tuple((name, *METHOD_DESCRIPTIONS.get(name, (name, name))) for name in METHODS)

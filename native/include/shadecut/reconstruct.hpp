@@ -23,6 +23,7 @@ enum class Method {
   LeeRosenfeld, ///< "lee_rosenfeld": the local method under the convex assumption (no global step)
   BrooksHorn,   ///< "brooks_horn": Brooks & Horn's variational iteration (brooks_horn.hpp), normals integrated
   TsaiShah,     ///< "tsai_shah": Tsai & Shah's linearized depth iteration (tsai_shah.hpp), normals from its depth
+  Upwind,       ///< "upwind": the viscosity solution by upwind fast sweeping (upwind.hpp), normals from its depth
 };
 
 /// What the image shows, which fixes what shading alone cannot.
@@ -49,7 +50,7 @@ struct MethodDefaults {
   double min_curvature;
   double undefined_weight;
   double tolerance;   ///< graphcut, graphcut_two: share of the energy; brooks_horn: mean |dn| per sweep
-  int iterations;     ///< brooks_horn, tsai_shah
+  int iterations;     ///< brooks_horn, tsai_shah; upwind: most rounds of sweeps
   double smoothness;  ///< brooks_horn
 };
 MethodDefaults method_defaults(Method method);
@@ -81,7 +82,7 @@ struct ReconstructOptions {
   /// everywhere on the training surfaces.
   int coarse_to_fine_radius = 0;
   std::optional<double> tolerance;          ///< convergence tolerance (MethodDefaults::tolerance); unset = method_defaults
-  std::optional<int> iterations;            ///< brooks_horn, tsai_shah sweeps; unset = method_defaults
+  std::optional<int> iterations;            ///< brooks_horn, tsai_shah sweeps, upwind rounds; unset = method_defaults
   /// brooks_horn lambda for an object of kReferenceObjectSize pixels (the per-pixel weight is this
   /// times (object_size / kReferenceObjectSize)^2, at least kStableSmoothness); unset = method_defaults
   std::optional<double> smoothness;
@@ -114,16 +115,16 @@ struct ReconstructOptions {
   bool seamless = false;
   int threads = 0;                          ///< 0 = all cores
   /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
-  /// "graphcut", "brooks_horn", "tsai_shah", "integration", "fit_shading". Returning false cancels.
+  /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading". Returning false cancels.
   ProgressCallback progress;
 };
 
 struct ReconstructStats {
   std::map<std::string, double> seconds;    ///< per stage run ("light", "local", "energy", "graphcut",
-                                            ///< "brooks_horn", "tsai_shah", "integration", "fit_shading") and "total"
+                                            ///< "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading") and "total"
   std::vector<double> energy_per_cycle;     ///< initial energy, then after every alpha-expansion cycle
   int cycles = 0;
-  int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps; 0 for lee_rosenfeld
+  int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps, upwind rounds; 0 for lee_rosenfeld
   bool light_estimated = false;             ///< whether the light (and, without a given albedo, the albedo) was estimated
   int moves = 0;                            ///< expansion moves, summed over the levels
   int accepted_moves = 0;
