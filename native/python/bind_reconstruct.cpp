@@ -118,6 +118,7 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "shadow_threshold", &ReconstructOptions::shadow_threshold);
   option(options, names, "occluding_contour", &ReconstructOptions::occluding_contour);
   option(options, names, "contour_weight", &ReconstructOptions::contour_weight);
+  option(options, names, "viscosity_weight", &ReconstructOptions::viscosity_weight);
   option(options, names, "fit_shading", &ReconstructOptions::fit_shading);
   option(options, names, "fit_smoothness", &ReconstructOptions::fit_smoothness);
   option(options, names, "seamless", &ReconstructOptions::seamless);
@@ -160,7 +161,11 @@ void bind_reconstruct(py::module_& m) {
                     "fit_shading: sum of squared brightness residuals of the integrated depth")
       .def_readonly("shading_residual_after", &ReconstructStats::shading_residual_after,
                     "fit_shading: the same after the fit (never larger)")
-      .def_readonly("fit_steps", &ReconstructStats::fit_steps);
+      .def_readonly("fit_steps", &ReconstructStats::fit_steps)
+      .def_readonly("paper_residual", &ReconstructStats::paper_residual,
+                    "viscosity_weight: mean squared brightness residual of the paper's labelling's depth")
+      .def_readonly("pulled_residual", &ReconstructStats::pulled_residual, "the same for the labelling pulled toward upwind's")
+      .def_readonly("pulled_kept", &ReconstructStats::pulled_kept, "whether the pulled labelling was kept");
 
   // The arrays are views of the result's own buffers, kept alive by it: no copy.
   py::class_<Reconstruction>(m, "Reconstruction", "The result of reconstruct().")

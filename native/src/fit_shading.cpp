@@ -175,14 +175,6 @@ FitShadingStats fit_at_resolution(ImageF& depth, const ImageF& image, const Mask
   return stats;
 }
 
-// Sum over the fitted pixels of (rendered - image)^2 for a depth: the residual fit_at_resolution
-// minimizes, computed through normals_from_depth and render_lambertian.
-double brightness_residual(const ImageF& depth, const ImageF& image, const Mask& mask, const Mask& fitted,
-                           const Eigen::Vector3d& light, double albedo) {
-  const ImageF rendered = render_lambertian(normals_from_depth(depth, mask), light, albedo, mask);
-  return fitted.select((rendered - image).cast<double>().square(), 0.0).sum();
-}
-
 // Bilinear interpolation of a coarse field (one value per factor x factor block, defined where
 // `defined`) at every fine pixel centre; blocks left undefined first take the mean of their defined
 // neighbours, ring by ring, so that the mask's edge has values on both sides.

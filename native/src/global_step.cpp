@@ -2,6 +2,10 @@
 
 #include <shadecut/convexity_cut.hpp>
 #include <shadecut/downsample.hpp>
+#include <shadecut/integrate.hpp>
+#include <shadecut/render.hpp>
+#include <shadecut/shadow_fill.hpp>
+#include <shadecut/upwind.hpp>
 
 #include "stopwatch.hpp"
 
@@ -85,6 +89,19 @@ std::vector<int> start_from_centres(const TiltEnergy& energy, const std::vector<
   return labelling;
 }
 
+// The mean squared brightness residual of the depth integrated from a labelling's normals, over the
+// reliable pixels: how well the labelling, made integrable, explains the image.
+double integrated_residual(NormalMap normals, const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                           const GlobalStepParams& params) {
+  const Mask unreliable = unreliable_pixels(image, mask, albedo, params.shadow_threshold, params.highlight_threshold);
+  fill_normals(normals, unreliable, mask, params.occluding_contour);
+  fold_back_facing(normals, mask);
+  const ImageF depth = integrate_normals(normals, mask, Integrator::Poisson);
+  const Mask counted = mask && !unreliable;
+  return brightness_residual(depth, image, mask, counted, light.direction, albedo) /
+         double(std::max<Eigen::Index>(1, counted.count()));
+}
+
 // Solves one level (after the coarser ones, when there are any) into `result`, reporting progress in
 // [begin, end] of the whole step.
 void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
@@ -105,6 +122,9 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
       coarse_seconds = coarse.expansion.maxflow_seconds;
       coarse_levels = coarse.levels;
       result.seconds = coarse.seconds;
+      result.paper_residual = coarse.paper_residual;
+      result.pulled_residual = coarse.pulled_residual;
+      result.pulled_kept = coarse.pulled_kept;
       progress = progress.range(kCoarseShare, 1.0);
     }
   }
@@ -128,25 +148,58 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   }
   const TiltEnergy energy(local, light, mask, energy_params);
   result.seconds["energy"] += stage.seconds();
+  const bool choose = centre.empty() && params.viscosity_weight > 0.0;
+  // Each labelling's share of the level's cuts: both when the coarsest level chooses.
+  const double cuts_end = choose ? 0.5 : 1.0;
   progress.report(0.05, "graphcut");
   stage.restart();
-  std::vector<int> labelling;
-  if (centre.empty()) {
-    labelling = energy.convex_labelling();
-    convexity_cut(energy, local, labelling, solver);
-  } else {
-    labelling = start_from_centres(energy, centre);
-  }
+  auto label = [&](const TiltEnergy& labelled, double begin, double end, AlphaExpansionStats& expansion) {
+    std::vector<int> labelling;
+    if (centre.empty()) {
+      labelling = labelled.convex_labelling();
+      convexity_cut(labelled, local, labelling, solver);
+    } else {
+      labelling = start_from_centres(labelled, centre);
+    }
+    expansion = alpha_expansion(labelled, labelling, solver, params.max_cycles, params.tolerance, progress.range(begin, end));
+    return labelling;
+  };
+  std::vector<int> labelling = label(energy, 0.05, cuts_end, result.expansion);
   result.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * energy.labels());
-  result.expansion = alpha_expansion(energy, labelling, solver, params.max_cycles, params.tolerance,
-                                     progress.range(0.05, 1.0));
   result.seconds["graphcut"] += stage.seconds();
+  result.normals = labelling_normals(labelling, energy, local, light, params.refine);
+  if (choose) {
+    progress.report(cuts_end, "upwind");
+    stage.restart();
+    const NormalMap reference = normals_from_depth(upwind(image, mask, light, albedo, params.viscosity_rounds).depth, mask);
+    result.seconds["upwind"] += stage.seconds();
+    progress.report(cuts_end, "energy");
+    stage.restart();
+    energy_params.reference = &reference;
+    energy_params.reference_weight = params.viscosity_weight * scale;
+    const TiltEnergy pulled_energy(local, light, mask, energy_params);
+    result.seconds["energy"] += stage.seconds();
+    progress.report(cuts_end, "graphcut");
+    stage.restart();
+    AlphaExpansionStats pulled_expansion;
+    std::vector<int> pulled = label(pulled_energy, cuts_end, 1.0, pulled_expansion);
+    NormalMap pulled_normals = labelling_normals(pulled, pulled_energy, local, light, params.refine);
+    result.paper_residual = integrated_residual(result.normals, image, mask, light, albedo, params);
+    result.pulled_residual = integrated_residual(pulled_normals, image, mask, light, albedo, params);
+    result.seconds["graphcut"] += stage.seconds();
+    if (result.pulled_residual < result.paper_residual) {
+      result.pulled_kept = true;
+      labelling = std::move(pulled);
+      result.normals = std::move(pulled_normals);
+      result.expansion = std::move(pulled_expansion);
+      result.allowed_label_fraction = double(pulled_energy.allowed_count()) / (double(mask.count()) * energy.labels());
+    }
+  }
   result.expansion.moves += coarse_moves;
   result.expansion.accepted_moves += coarse_accepted;
   result.expansion.repaired_moves += coarse_repaired;
   result.expansion.maxflow_seconds += coarse_seconds;
   result.levels = coarse_levels + 1;
-  result.normals = labelling_normals(labelling, energy, local, light, params.refine);
   result.labelling = std::move(labelling);
 }
 

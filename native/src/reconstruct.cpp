@@ -62,6 +62,8 @@ void check_options(const ReconstructOptions& options, const Mask& mask) {
   if (options.labels < kMinLabels)
     throw InvalidArgument("shadecut: labels must be at least " + std::to_string(kMinLabels) + " (got " +
                           std::to_string(options.labels) + ")");
+  if (!(options.viscosity_weight >= 0.0) || !std::isfinite(options.viscosity_weight))
+    throw InvalidArgument("shadecut: viscosity_weight must be finite and >= 0; got " + std::to_string(options.viscosity_weight));
   if (!(options.fit_smoothness >= 0.0) || !std::isfinite(options.fit_smoothness))
     throw InvalidArgument("shadecut: fit_smoothness must be finite and >= 0; got " + std::to_string(options.fit_smoothness));
   if (options.seamless && options.scene != SceneKind::Relief)
@@ -143,6 +145,11 @@ GlobalStepParams global_step_params(const ReconstructOptions& options) {
   params.band = options.coarse_to_fine_band;
   params.band_radius = options.coarse_to_fine_radius;
   params.refine = options.refine;
+  // Tuned for graphcut only (docs/parameters.md).
+  params.viscosity_weight = options.method == Method::GraphCut ? options.viscosity_weight : 0.0;
+  params.shadow_threshold = options.fill_shadows ? options.shadow_threshold : -1.0;
+  params.highlight_threshold = options.highlight_threshold;
+  params.occluding_contour = edge_is_outline(options);
   return params;
 }
 
@@ -161,6 +168,9 @@ NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFr
   stats.accepted_moves = solved.expansion.accepted_moves;
   stats.maxflow_seconds = solved.expansion.maxflow_seconds;
   stats.levels = solved.levels;
+  stats.paper_residual = solved.paper_residual;
+  stats.pulled_residual = solved.pulled_residual;
+  stats.pulled_kept = solved.pulled_kept;
   return std::move(solved.normals);
 }
 

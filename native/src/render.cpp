@@ -53,4 +53,10 @@ ImageF render_lambertian(const NormalMap& normals, const Eigen::Vector3d& light,
   return image;
 }
 
+double brightness_residual(const ImageF& depth, const ImageF& image, const Mask& mask, const Mask& counted,
+                           const Eigen::Vector3d& light, double albedo) {
+  const ImageF rendered = render_lambertian(normals_from_depth(depth, mask), light, albedo, mask);
+  return counted.select((rendered - image).cast<double>().square(), 0.0).sum();
+}
+
 }  // namespace shadecut

@@ -76,6 +76,11 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     throw InvalidArgument("shadecut: undefined_weight must be finite and >= 0");
   if (!(params.contour_weight >= 0.0) || !std::isfinite(params.contour_weight))
     throw InvalidArgument("shadecut: contour_weight must be finite and >= 0");
+  if (!(params.reference_weight >= 0.0) || !std::isfinite(params.reference_weight))
+    throw InvalidArgument("shadecut: the weight of the reference normals must be finite and >= 0");
+  const bool referenced = params.reference && params.reference_weight > 0.0;
+  if (referenced && (params.reference->rows != rows_ || params.reference->cols != cols_))
+    throw InvalidArgument("shadecut: the reference normals are not the mask's shape");
   const int n = rows_ * cols_, k_count = labels_;
 
   chord_.resize(std::size_t(k_count));
@@ -107,6 +112,7 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     double s = 0.0, sin_s = 0.0, nz_base = 0.0, nz_step = 0.0, t = 0.0;
     bool defined = false;
     int concave_label = 0, convex_label = 0;
+    Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // zero without a reference
     Eigen::Vector2d outward = Eigen::Vector2d::Zero();  // zero off the outline
   };
   const Outline outline = read_outline(local, light, mask, params.contour_weight);
@@ -125,6 +131,7 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     terms.t = local.tilt.data()[p];
     terms.concave_label = nearest_label(terms.t);
     terms.convex_label = nearest_label(terms.t + M_PI);
+    if (referenced) terms.reference = params.reference->xyz.row(p).transpose().cast<double>();
     return terms;
   };
   auto label_nz = [&](const PixelTerms& terms, int k) { return terms.nz_base - terms.nz_step * cos_label[std::size_t(k)]; };
@@ -135,6 +142,10 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     const double across = n.head<2>().norm();
     const double cos_d = across > 1e-9 ? n.head<2>().dot(terms.outward) / across : 0.0;
     return params.contour_weight * 0.5 * (1.0 - cos_d);
+  };
+  auto reference_cost = [&](const PixelTerms& terms, int k) {
+    if (!referenced) return 0.0;
+    return params.reference_weight * (light.normal(terms.s, label_angle[std::size_t(k)]) - terms.reference).norm();
   };
   auto data_cost_of = [&](const PixelTerms& terms, int k) -> double {
     const double angle = label_angle[std::size_t(k)];
@@ -147,7 +158,7 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
   };
   auto label_cost = [&](const PixelTerms& terms, int k) {
     if (label_nz(terms, k) <= kMinFrontFacing) return kProhibited;
-    return float(data_cost_of(terms, k) + contour_cost(terms, k));
+    return float(data_cost_of(terms, k) + contour_cost(terms, k) + reference_cost(terms, k));
   };
 
   // The windows: a pixel with a band centre keeps the band (or only its centre, when frozen), unless

@@ -180,6 +180,36 @@ TEST(TiltEnergy, ABowlsRimGetsNoOutlineTerm) {
     for (int k = 0; k < energies.with.labels(); ++k) ASSERT_EQ(energies.with.data_cost(p, k), energies.without.data_cost(p, k));
 }
 
+TEST(TiltEnergy, AReferencePullsEachLabelByItsChordToTheReferenceNormal) {
+  const Eigen::Vector3d light(0.5, 0.3, 1.0);
+  const testing::Scene scene = testing::sphere_scene(32, 0.4, light);
+  const LightFrame frame = LightFrame::from_direction(light);
+  const LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, 1e-3);
+  TiltEnergyParams params;
+  const TiltEnergy without(local, frame, scene.mask, params);
+  params.reference = &scene.normals;
+  params.reference_weight = 0.5;
+  const TiltEnergy with(local, frame, scene.mask, params);
+  int compared = 0;
+  for (int p = 0; p < 32 * 32; ++p) {
+    if (!scene.mask.data()[p]) continue;
+    const Eigen::Vector3d truth = scene.normals.xyz.row(p).transpose().cast<double>();
+    for (int k = 0; k < with.labels(); ++k) {
+      if (!with.allowed(p, k) || !without.allowed(p, k)) continue;
+      const Eigen::Vector3d n = frame.normal(local.slant.data()[p], with.label_tilt(k));
+      EXPECT_NEAR(double(with.data_cost(p, k)) - double(without.data_cost(p, k)), 0.5 * (n - truth).norm(), 1e-5);
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 1000);
+  const NormalMap wrong_shape(16, 16);
+  params.reference = &wrong_shape;
+  EXPECT_THROW(TiltEnergy(local, frame, scene.mask, params), InvalidArgument);
+  params.reference = &scene.normals;
+  params.reference_weight = -1.0;
+  EXPECT_THROW(TiltEnergy(local, frame, scene.mask, params), InvalidArgument);
+}
+
 TEST(TiltEnergy, RejectsTooFewLabels) {
   const testing::Scene scene = testing::sphere_scene(16, 0.45, {1, 0, 1});
   const LightFrame frame = LightFrame::from_direction({1, 0, 1});

@@ -3,6 +3,8 @@
 #include <shadecut/angular_error.hpp>
 #include <shadecut/errors.hpp>
 #include <shadecut/reconstruct.hpp>
+#include <shadecut/render.hpp>
+#include <shadecut/shadow_fill.hpp>
 
 #include <gtest/gtest.h>
 
@@ -94,6 +96,42 @@ TEST(Reconstruct, SeamlessReliefTilesAndKeepsItsShape) {
   EXPECT_LE(tiled_error, plain_error);
 }
 
+// The pull toward the viscosity solution is a second candidate: the labelling kept is the one whose
+// integrated depth renders closer to the image (at one level, the depth reconstruct returns), and on
+// the test bumps, where the paper's energy picks a wrong surface, that is the pulled one, much nearer
+// the truth.
+TEST(Reconstruct, TheViscosityPullKeepsTheSurfaceThatExplainsTheImageBetter) {
+  const Eigen::Vector3d light(1, 0, 1);
+  for (const bool bumps : {true, false}) {
+    const testing::Scene scene = bumps ? testing::bumps_scene(96, light) : testing::sphere_scene(96, 0.45, light);
+    ReconstructOptions options;
+    options.coarse_to_fine_band = -1;
+    options.viscosity_weight = 0.0;
+    const Reconstruction paper = reconstruct(scene.image, light, &scene.mask, 1.0, options);
+    EXPECT_FALSE(paper.stats.pulled_kept);
+    options.viscosity_weight = 0.3;
+    const Reconstruction chosen = reconstruct(scene.image, light, &scene.mask, 1.0, options);
+    const Mask counted = scene.mask && !unreliable_pixels(scene.image, scene.mask, 1.0, options.shadow_threshold,
+                                                          options.highlight_threshold);
+    auto residual = [&](const ImageF& depth) {
+      return brightness_residual(depth, scene.image, scene.mask, counted, light, 1.0) / double(counted.count());
+    };
+    EXPECT_NEAR(chosen.stats.paper_residual, residual(paper.depth), 1e-9);
+    EXPECT_NEAR(residual(chosen.depth), std::min(chosen.stats.paper_residual, chosen.stats.pulled_residual), 1e-9);
+    EXPECT_EQ(chosen.stats.pulled_kept, chosen.stats.pulled_residual < chosen.stats.paper_residual);
+    EXPECT_GT(chosen.stats.seconds.at("upwind"), 0.0);
+    const Mask inner = erode_mask(scene.mask, 2);
+    const double before = mean_angular_error(paper.normals, scene.normals, inner);
+    const double after = mean_angular_error(chosen.normals, scene.normals, inner);
+    if (bumps) {
+      EXPECT_TRUE(chosen.stats.pulled_kept);
+      EXPECT_LT(after, 0.5 * before) << before << " -> " << after;
+    } else {
+      EXPECT_LE(after, before + 0.5) << before << " -> " << after;
+    }
+  }
+}
+
 TEST(Reconstruct, RejectsBadInput) {
   const Eigen::Vector3d light(1, 0, 1);
   const testing::Scene scene = testing::sphere_scene(16, 0.45, light);
@@ -117,6 +155,11 @@ TEST(Reconstruct, RejectsBadInput) {
   ReconstructOptions seamless_relief = seamless_object;
   seamless_relief.scene = SceneKind::Relief;
   EXPECT_THROW(reconstruct(scene.image, light, &scene.mask, std::nullopt, seamless_relief), InvalidArgument);
+  for (const double weight : {-1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    ReconstructOptions bad_pull;
+    bad_pull.viscosity_weight = weight;
+    EXPECT_THROW(reconstruct(scene.image, light, &scene.mask, std::nullopt, bad_pull), InvalidArgument);
+  }
 }
 
 }  // namespace

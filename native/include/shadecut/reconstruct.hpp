@@ -102,6 +102,11 @@ struct ReconstructOptions {
   /// pull of the outline's pixels toward normals pointing outward. Off: the tuning procedure's
   /// training surfaces hold no torus- or vase-like object yet to choose it on (docs/method.md).
   double contour_weight = 0.0;
+  /// graphcut: > 0 also labels the image, at the coarsest level of coarse to fine, with the energy
+  /// pulled toward the normals of its viscosity solution (upwind.hpp; GlobalStepParams::viscosity_weight,
+  /// this weight), integrates both labellings and keeps the one whose depth renders closer to the
+  /// image; the finer levels refine it. 0 = the paper's energy alone.
+  double viscosity_weight = 0.0;
   /// graphcut: after integration, fit the depth to the image (fit_shading.hpp): the
   /// normals are then the depth's, integrable, and render closer to the image. Not with seamless.
   /// Off by default: it wins on the training surfaces but adds 3.4-6.1 s to a call of 0.08-1.1 s
@@ -133,6 +138,12 @@ struct ReconstructStats {
   double allowed_label_fraction = 0.0;      ///< share of (pixel, label) pairs left after pruning
   int shadow_pixels = 0;                    ///< pixels whose normals were filled from their neighbours
                                             ///< (attached shadows and highlights: fill_normals)
+  /// viscosity_weight: the mean squared brightness residual, at the coarsest level, of the paper's
+  /// labelling's integrated depth and of the pulled one's, and whether the pulled one was kept (then
+  /// the graph-cut statistics above are its own); 0, 0, false when it did not run.
+  double paper_residual = 0.0;
+  double pulled_residual = 0.0;
+  bool pulled_kept = false;
   /// fit_shading: the brightness residual before and after (FitShadingStats) and the steps taken;
   /// all 0 when it did not run.
   double shading_residual_before = 0.0;

@@ -31,4 +31,16 @@ NormalMap normals_from_periodic_depth(const ImageF& depth);
 /// @return H x W linear intensity.
 ImageF render_lambertian(const NormalMap& normals, const Eigen::Vector3d& light, double albedo, const Mask& mask);
 
+/// How far a depth's rendering is from the image: sum over the `counted` pixels of
+/// (render_lambertian(normals_from_depth(depth, mask)) - image)^2.
+///
+/// @param[in] depth   H x W depth, pixel units.
+/// @param[in] image   H x W linear intensity.
+/// @param[in] mask    H x W pixels of the surface (its normals' support).
+/// @param[in] counted H x W pixels summed (e.g. the mask without shadows and highlights).
+/// @param[in] light   direction toward the light (normalized here).
+/// @param[in] albedo  >= 0.
+double brightness_residual(const ImageF& depth, const ImageF& image, const Mask& mask, const Mask& counted,
+                           const Eigen::Vector3d& light, double albedo);
+
 }  // namespace shadecut

@@ -39,6 +39,11 @@ struct TiltEnergyParams {
   /// edge reads as a silhouette: brighter where it faces the light (a bowl's rim, brighter where it
   /// faces away, gets no term). 0 = no such term (reliefs).
   double contour_weight = 0.0;
+  /// A pull toward given normals (one per pixel of the mask's grid, row-major; the viscosity
+  /// solution's, GlobalStepParams::viscosity_weight): label theta costs reference_weight
+  /// |n(s_p, theta) - m_p| more, a chord like the soft data term's. Null or 0 = none.
+  const NormalMap* reference = nullptr;
+  double reference_weight = 0.0;
   DataTerm data_term = DataTerm::Soft;
   int threads = 0;             ///< threads for building the tables; 0 = all cores
   /// Coarse to fine: with band >= 0, a masked pixel p with (*band_centre)[p] >= 0 (a label, one per
