@@ -1,8 +1,10 @@
 """Chooses the default parameters of every method by one procedure, on training surfaces only.
 
-Training surfaces: a sphere, a bowl, Gaussian bumps and dents in a layout of their own and two egg
-crates, each under its own light. None of them is a test surface (the tests use other lights,
-another bump layout, and Mozart), so the defaults are not fitted to what the tests measure.
+Training surfaces: a sphere, a bowl, Gaussian bumps and dents in a layout of their own, two egg
+crates, a torus (in proportions of its own) and a vase of shadecut.synthetic, each under its own
+light. None of them is a test surface (the tests use other lights, other proportions, another bump
+layout, Mozart and the evaluation's Blender meshes), so the defaults are not fitted to what the
+tests measure.
 For each method, every combination of its parameters on the grid below is scored by the mean, over
 the training surfaces rendered at every size of --sizes, of the mean angular error on the mask eroded
 by 2 pixels; the best wins. Scoring at more than one resolution keeps the choice from fitting one
@@ -25,8 +27,9 @@ BAND_RADIUS_SLACK degrees of the band at every pixel (radius -1).
 Run: PYTHONPATH=addon /usr/bin/python3 scripts/tune_parameters.py [--methods NAME ...] [--sizes N ...]
 (every method of the grid, at 128 and 256 pixels, by default; --methods tunes only those named, by
 the same procedure; --albedo tunes only the albedo estimate; --band-radius only graphcut's
-coarse_to_fine_radius, at 256 and 512 pixels unless --sizes says otherwise; --fit-smoothness only
-graphcut's fit_smoothness, with fit_shading on, by the same score).
+coarse_to_fine_radius, at 256 and 512 pixels unless --sizes says otherwise; --viscosity-weight only
+graphcut's viscosity_weight, every other option at its default, by the same score; --fit-smoothness
+only graphcut's fit_smoothness, with fit_shading on, by the same score).
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ import argparse
 import itertools
 import sys
 import time
+from typing import Optional
 
 import numpy as np
 
@@ -64,6 +68,8 @@ def training_surfaces(size: int) -> dict[str, synthetic.Scene]:
         "egg_crate": synthetic.egg_crate((1.0, 0.4, 1.0), size),
         "egg_crate_wide": synthetic.egg_crate((-0.5, 0.9, 1.0), size, periods=1.5, amplitude=0.08),
         "bumps_sparse": synthetic.bumps((-0.7, 0.3, 1.0), size, features=SPARSE_TRAINING_BUMPS),
+        "torus": synthetic.torus((-0.3, -0.8, 1.0), size, major=0.28, minor=0.12),
+        "vase": synthetic.vase((0.5, 0.6, 1.0), size),
     }
 
 
@@ -72,12 +78,15 @@ GRID = {
         "data_weight": [0.2, 0.5, 1.0, 2.0],
         "min_curvature": [0.3, 1.0, 2.0],
         "undefined_weight": [0.0, 0.05, 0.2, 0.5],
+        "contour_weight": [0.0, 1.0, 3.0, 10.0],
     },
-    "graphcut_two": {"min_curvature": [0.3, 1.0, 2.0], "undefined_weight": [0.0, 0.05, 0.2, 0.5]},
+    "graphcut_two": {"min_curvature": [0.3, 1.0, 2.0], "undefined_weight": [0.0, 0.05, 0.2, 0.5],
+                     "contour_weight": [0.0, 1.0, 3.0, 10.0]},
     "lee_rosenfeld": {"min_curvature": [0.3, 1.0, 2.0]},
     "brooks_horn": {"smoothness": [0.3, 0.6, 1.0, 2.0, 4.0, 8.0], "iterations": [500, 2000, 8000],
                     "tolerance": [0.0, 1e-5, 1e-4]},
     "tsai_shah": {"iterations": [1, 2, 3, 5, 10, 20, 50, 100]},
+    "upwind": {"iterations": [1, 2, 3, 5, 10, 100]},
 }
 
 
@@ -91,10 +100,12 @@ TRAINING_HIGHLIGHTS = ((0.0, 1.0), (0.3, 20.0), (0.5, 100.0), (1.0, 50.0), (2.0,
 
 
 FIT_SMOOTHNESSES = (0.1, 0.2, 0.3, 0.5, 1.0, 2.0)
+VISCOSITY_WEIGHTS = (0.0, 0.1, 0.3, 1.0, 3.0)
 
 
-def tune_fit_smoothness(surfaces: dict) -> None:
-    """graphcut with fit_shading, each fit_smoothness scored like a grid setting; fit off for reference."""
+def tune_graphcut_option(surfaces: dict, name: str, values, reference: Optional[dict] = None, **fixed) -> None:
+    """graphcut with every other option at its default (and ``fixed``), each value of option ``name``
+    scored like a grid setting; ``reference``, options scored first for comparison."""
     def score(**options) -> tuple[float, dict]:
         errors = {size: [scene.mean_error(shadecut.reconstruct(scene.image, scene.light, scene.mask, albedo=scene.albedo,
                                                                **options).normals)
@@ -106,13 +117,14 @@ def tune_fit_smoothness(surfaces: dict) -> None:
         return f"mean error {error:.3f} deg (" + "; ".join(
             f"{size} px {np.mean(e):.2f} [{', '.join(f'{v:.2f}' for v in e)}]" for size, e in errors.items()) + ")"
 
-    print(f"fit_shading off: {line(*score(fit_shading=False))}")
+    if reference is not None:
+        print(f"  {reference}: {line(*score(**reference))}")
     scored = []
-    for smoothness in FIT_SMOOTHNESSES:
-        error, errors = score(fit_shading=True, fit_smoothness=smoothness)
-        print(f"  fit_smoothness {smoothness}: {line(error, errors)}", flush=True)
-        scored.append((error, smoothness))
-    print(f"  chosen fit_smoothness: {min(scored)[1]}")
+    for value in values:
+        error, errors = score(**fixed, **{name: value})
+        print(f"  {name} {value}: {line(error, errors)}", flush=True)
+        scored.append((error, value))
+    print(f"  chosen {name}: {min(scored)[1]}")
 
 
 BAND_RADII = (0, 1, 2, 3, 4, 6, 8)
@@ -203,9 +215,15 @@ def main() -> int:
     parser.add_argument("--albedo", action="store_true", help="tune only the albedo estimate (top_fit's window)")
     parser.add_argument("--band-radius", action="store_true", help="choose only graphcut's coarse_to_fine_radius")
     parser.add_argument("--fit-smoothness", action="store_true", help="tune only graphcut's fit_smoothness (fit_shading)")
+    parser.add_argument("--viscosity-weight", action="store_true", help="tune only graphcut's viscosity_weight")
     args = parser.parse_args()
     if args.fit_smoothness:
-        tune_fit_smoothness({size: training_surfaces(size) for size in args.sizes})
+        tune_graphcut_option({size: training_surfaces(size) for size in args.sizes}, "fit_smoothness",
+                             FIT_SMOOTHNESSES, reference={"fit_shading": False}, fit_shading=True)
+        return 0
+    if args.viscosity_weight:
+        tune_graphcut_option({size: training_surfaces(size) for size in args.sizes}, "viscosity_weight",
+                             VISCOSITY_WEIGHTS)
         return 0
     if args.band_radius:
         sizes = args.sizes if "--sizes" in sys.argv else [256, 512]

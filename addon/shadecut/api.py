@@ -208,7 +208,7 @@ def estimate_albedo(image, mask=None, method: Optional[str] = None,
     """The albedo :func:`reconstruct` uses when a light but no albedo is given.
 
     ``method``: "top_fit" (the intensity at which a line fitted to the squared intensities of the
-    object's brightest 40-50 %, against their share of its area, reaches share 0: highlights and
+    object's brightest 20-60 %, against their share of its area, reaches share 0: highlights and
     saturated spots brighter than that window do not move it; the brightest value when it agrees
     with the fit) or "brightest" (the largest value of the 3 x 3 median-filtered image). None =
     the ``albedo_method`` default of :class:`ReconstructOptions`.

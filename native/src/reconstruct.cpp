@@ -26,6 +26,10 @@ namespace {
 // with the Poisson integrator at a megapixel: about 0.8 s and 0.5 s); fit_shading takes the rest.
 constexpr double kNormalsShare = 0.6;
 constexpr double kIntegratedShare = 0.8;
+// With a pulled labelling to confirm (viscosity_weight), its integration ends here and the paper's
+// labelling is solved up to kConfirmNormalsShare and integrated by kIntegratedShare.
+constexpr double kConfirmShare = 0.65;
+constexpr double kConfirmNormalsShare = 0.75;
 
 // Whether the depth is fitted to the image after integration: graphcut only, where it was tuned
 // (graphcut_two's integrated depth is a worse start: the fit raised its evaluation mean, 22.97 ->
@@ -53,6 +57,54 @@ void fit_depth_to_image(const ImageF& image, const Mask& fitted, const LightFram
 // Whether the mask's edge is the object's outline (an occluding contour): never for a relief.
 bool edge_is_outline(const ReconstructOptions& options) {
   return options.occluding_contour && options.scene == SceneKind::Object;
+}
+
+// A labelling's normals after the shared finishing: filled where unreliable, folded to face the
+// viewer, and integrated.
+struct Surface {
+  NormalMap normals;
+  ImageF depth;
+  int shadow_pixels = 0;
+};
+
+Surface integrate_surface(NormalMap normals, const Mask& mask, const Mask& unreliable, const ReconstructOptions& options,
+                          const Progress& progress) {
+  Surface surface;
+  surface.shadow_pixels = fill_normals(normals, unreliable, mask, edge_is_outline(options));
+  fold_back_facing(normals, mask);
+  if (options.seamless) {
+    // A tiling surface has no ramp to flatten: its mean gradient is dropped by the integration.
+    surface.depth = integrate_periodic(normals, options.max_slope);
+    surface.normals = normals_from_periodic_depth(surface.depth);
+  } else {
+    surface.depth = integrate_normals(normals, mask, options.integrator, options.max_slope, progress);
+    surface.normals = std::move(normals);
+  }
+  return surface;
+}
+
+// `kept` holds the pulled labelling's surface (statistics `stats`), `paper` the paper's labelling's
+// (`paper_stats`): the one whose depth renders closer to the image over the `counted` pixels stays in
+// `kept`, with its own graph-cut statistics; `stats` gets both residuals, the choice and both runs'
+// seconds.
+void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& counted, const LightFrame& frame, double albedo,
+                          Surface paper, ReconstructStats paper_stats, Surface& kept, ReconstructStats& stats) {
+  const double pixels = double(std::max<Eigen::Index>(1, counted.count()));
+  auto residual = [&](const Surface& surface) {
+    return brightness_residual(surface.depth, image, mask, counted, frame.direction, albedo) / pixels;
+  };
+  const double paper_residual = residual(paper), pulled_residual = residual(kept);
+  std::map<std::string, double> seconds = stats.seconds;
+  for (const auto& [stage, spent] : paper_stats.seconds) seconds[stage] += spent;
+  if (paper_residual <= pulled_residual) {
+    paper_stats.light_estimated = stats.light_estimated;
+    stats = std::move(paper_stats);
+    kept = std::move(paper);
+  }
+  stats.seconds = std::move(seconds);
+  stats.paper_residual = paper_residual;
+  stats.pulled_residual = pulled_residual;
+  stats.pulled_kept = pulled_residual < paper_residual;
 }
 
 void check_options(const ReconstructOptions& options, const Mask& mask) {
@@ -243,11 +295,11 @@ std::string to_string(Method method) { return method_names().at(std::size_t(meth
 MethodDefaults method_defaults(Method method) {
   switch (method) {
     case Method::GraphCut: return {1.0, 0.5, 0.0, 0, 0.0};
-    case Method::GraphCutTwo: return {2.0, 0.05, 0.0, 0, 0.0};
+    case Method::GraphCutTwo: return {2.0, 0.2, 0.0, 0, 0.0};
     case Method::LeeRosenfeld: return {2.0, 0.0, 0.0, 0, 0.0};
     case Method::BrooksHorn: return {0.0, 0.0, 1e-5, 8000, 0.3};
     case Method::TsaiShah: return {0.0, 0.0, 0.0, 1, 0.0};
-    case Method::Upwind: return {0.0, 0.0, 0.0, 100, 0.0};
+    case Method::Upwind: return {0.0, 0.0, 0.0, 3, 0.0};
   }
   throw InvalidArgument("shadecut: unknown method");
 }
@@ -270,23 +322,32 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   result.mask = mask;
   const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
   const detail::ThreadCountScope threads(options.threads);
-  result.normals = solve_normals(image, mask, frame, result.albedo, options, progress.range(0.0, kNormalsShare), result.stats);
-
-  progress.report(kNormalsShare, "integration");
-  const Stopwatch integration;
   const double shadow_threshold = options.fill_shadows ? options.shadow_threshold : -1.0;
   const Mask unreliable = unreliable_pixels(image, mask, result.albedo, shadow_threshold, options.highlight_threshold);
-  result.stats.shadow_pixels = fill_normals(result.normals, unreliable, mask, edge_is_outline(options));
-  fold_back_facing(result.normals, mask);
-  if (options.seamless) {
-    // A tiling surface has no ramp to flatten: its mean gradient is dropped by the integration.
-    result.depth = integrate_periodic(result.normals, options.max_slope);
-    result.normals = normals_from_periodic_depth(result.depth);
-  } else {
-    result.depth = integrate_normals(result.normals, mask, options.integrator, options.max_slope,
-                                     progress.range(kNormalsShare, kIntegratedShare));
+  // The normals, then their integration, in [begin, end] of the call.
+  auto surface_of = [&](const ReconstructOptions& solved, double begin, double split, double end, ReconstructStats& stats) {
+    NormalMap normals = solve_normals(image, mask, frame, result.albedo, solved, progress.range(begin, split), stats);
+    progress.report(split, "integration");
+    const Stopwatch integration;
+    Surface surface = integrate_surface(std::move(normals), mask, unreliable, options, progress.range(split, end));
+    stats.seconds["integration"] += integration.seconds();
+    return surface;
+  };
+  Surface surface = surface_of(options, 0.0, kNormalsShare, kConfirmShare, result.stats);
+  if (result.stats.pulled_kept) {
+    // The coarsest level preferred the pulled labelling; its residuals there can be within the
+    // coarse discretization's own error, so the paper's labelling is finished too and the choice
+    // is made again on the returned depths.
+    ReconstructOptions paper_options = options;
+    paper_options.viscosity_weight = 0.0;
+    ReconstructStats paper_stats;
+    Surface paper = surface_of(paper_options, kConfirmShare, kConfirmNormalsShare, kIntegratedShare, paper_stats);
+    keep_closer_to_image(image, mask, mask && !unreliable, frame, result.albedo, std::move(paper), std::move(paper_stats),
+                         surface, result.stats);
   }
-  result.stats.seconds["integration"] = integration.seconds();
+  result.normals = std::move(surface.normals);
+  result.depth = std::move(surface.depth);
+  result.stats.shadow_pixels = surface.shadow_pixels;
   if (fits_shading(options)) {
     fit_depth_to_image(image, mask && !unreliable, frame, options, progress.range(kIntegratedShare, 1.0), result);
   } else {

@@ -1,7 +1,9 @@
 """contour_weight: the outline of an object seen whole anchors the convex/concave choice.
 
 Measured on a torus and a vase of shadecut.synthetic under lights the tuning does not use (the
-dataset's torus and vase are Blender meshes: the default evaluation measures those).
+dataset's torus and vase are Blender meshes: the default evaluation measures those). The vase is
+symmetric about both image axes and the torus about its centre, so a light's mirror images (and, for
+the torus, its rotations) are the same problem: none of these is the training surfaces' up to those.
 """
 
 import numpy as np
@@ -13,7 +15,7 @@ from shadecut import synthetic
 SHAPES = {
     "torus (0.6, -0.4, 1)": synthetic.torus((0.6, -0.4, 1.0), 128),
     "torus (-0.7, 0.2, 1)": synthetic.torus((-0.7, 0.2, 1.0), 160),
-    "vase (-0.5, -0.6, 1)": synthetic.vase((-0.5, -0.6, 1.0), 128),
+    "vase (-0.6, 0.3, 1)": synthetic.vase((-0.6, 0.3, 1.0), 128),
     "vase (0.7, 0.1, 1)": synthetic.vase((0.7, 0.1, 1.0), 160),
 }
 
@@ -30,10 +32,15 @@ def outward_share(scene, normals) -> float:
 @pytest.mark.parametrize("name", SHAPES)
 def test_the_outline_turns_outward_and_the_shape_comes_closer(name):
     scene = SHAPES[name]
-    without = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo, contour_weight=0.0)
-    with_contour = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo, contour_weight=1.0)
-    print(f"{name}: {scene.mean_error(without.normals):.2f} -> {scene.mean_error(with_contour.normals):.2f} deg; "
-          f"outline outward {outward_share(scene, without.normals):.2f} -> {outward_share(scene, with_contour.normals):.2f}")
+    # The contour term alone: the viscosity pull (another candidate labelling) off in both.
+    without = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo, contour_weight=0.0,
+                                   viscosity_weight=0.0)
+    with_contour = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo, viscosity_weight=0.0)
+    defaults = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo)
+    print(f"{name}: {scene.mean_error(without.normals):.2f} -> {scene.mean_error(with_contour.normals):.2f} deg "
+          f"with contour_weight {shadecut.ReconstructOptions().contour_weight:g}; outline outward "
+          f"{outward_share(scene, without.normals):.2f} -> {outward_share(scene, with_contour.normals):.2f}; "
+          f"every default (the viscosity pull too) {scene.mean_error(defaults.normals):.2f} deg")
     assert outward_share(scene, with_contour.normals) >= 0.9  # measured 0.95-1.00 (0.71-0.88 without)
     assert scene.mean_error(with_contour.normals) < scene.mean_error(without.normals) - 1.0
 

@@ -36,15 +36,16 @@ def test_graphcut_recovers_the_bowl_where_the_convex_assumption_fails():
     assert local > 60.0
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "Known gap (issue 2): under this light the energy's minimum is a wrong surface (the labelling "
-    "nearest the truth costs 1.6 x more: GlobalStep.OnTheTestBumpsTheTruthCostsMoreThanTheLabellingFound); "
-    "measured in the README."))
 def test_graphcut_beats_the_local_method_on_bumps_and_dents():
+    """Under this light the paper's energy has its minimum at a wrong surface (the labelling nearest
+    the truth costs 1.6 x more: GlobalStep.OnTheTestBumpsTheTruthCostsMoreThanTheLabellingFound); the
+    labelling pulled toward the viscosity solution explains the image better and is kept."""
     bumps = synthetic.bumps((1.0, 0.0, 1.0))
-    graphcut, _ = error_of(bumps, "graphcut")
+    graphcut, result = error_of(bumps, "graphcut")
+    paper, _ = error_of(bumps, "graphcut", viscosity_weight=0.0)
     local, _ = error_of(bumps, "lee_rosenfeld")
-    print(f"bumps: graphcut {graphcut:.2f} deg, lee_rosenfeld {local:.2f} deg")
+    print(f"bumps: graphcut {graphcut:.2f} deg (the paper's energy alone {paper:.2f}), lee_rosenfeld {local:.2f} deg")
+    assert result.stats.pulled_kept and result.stats.pulled_residual < result.stats.paper_residual
     assert graphcut <= 0.75 * local
 
 
@@ -91,10 +92,12 @@ def test_a_tolerance_stops_earlier_at_the_same_accuracy(mozart_path):
 
 @pytest.mark.parametrize("scene", ["sphere", "bumps"])
 def test_coarse_to_fine_reaches_the_exact_minimum_s_accuracy(scene):
+    """Of the paper's energy: neither the outline's term nor the viscosity pull (a second energy)."""
     truth = getattr(synthetic, scene)((1.0, 0.0, 1.0), size=256)
-    exact_error, exact = error_of(truth, "graphcut", coarse_to_fine_band=-1)
-    everywhere_error, everywhere = error_of(truth, "graphcut", coarse_to_fine_radius=-1)
-    fast_error, fast = error_of(truth, "graphcut")
+    paper = {"contour_weight": 0.0, "viscosity_weight": 0.0}
+    exact_error, exact = error_of(truth, "graphcut", coarse_to_fine_band=-1, **paper)
+    everywhere_error, everywhere = error_of(truth, "graphcut", coarse_to_fine_radius=-1, **paper)
+    fast_error, fast = error_of(truth, "graphcut", **paper)
     energy = {name: run.stats.energy_per_cycle[-1] for name, run in
               (("exact", exact), ("band everywhere", everywhere), ("default", fast))}
     print(f"{scene} 256 px: exact alpha-expansion {exact_error:.2f} deg; band everywhere {everywhere_error:.2f} deg; "
@@ -123,7 +126,7 @@ def test_progress_reports_stages_and_false_cancels():
     shadecut.reconstruct(sphere.image, sphere.light, sphere.mask, progress=lambda f, s: seen.append((f, s)))
     fractions = [f for f, _ in seen]
     assert fractions == sorted(fractions) and fractions[-1] == 1.0
-    assert {s for _, s in seen} == {"local", "energy", "graphcut", "integration"}
+    assert {s for _, s in seen} == {"upwind", "local", "energy", "graphcut", "integration"}
     with pytest.raises(shadecut.Cancelled):
         shadecut.reconstruct(sphere.image, sphere.light, sphere.mask, progress=lambda f, s: s != "graphcut")
 

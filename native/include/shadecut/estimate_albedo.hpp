@@ -29,9 +29,9 @@ enum class AlbedoMethod {
 /// The window of top_fit, as shares of the mask's area (brightest first). The defaults were chosen
 /// by scripts/tune_parameters.py --albedo on training renders with highlights (docs/parameters.md).
 struct TopFitWindow {
-  double from = 0.4;
-  double to = 0.5;
-  double agreement = 0.4;  ///< relative excess of the brightest value over the fit still taken as clean
+  double from = 0.2;
+  double to = 0.6;
+  double agreement = 0.3;  ///< relative excess of the brightest value over the fit still taken as clean
 };
 
 /// Every method's name, in the order of the enum.

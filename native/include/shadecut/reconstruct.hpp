@@ -99,14 +99,15 @@ struct ReconstructOptions {
   double shadow_threshold = 1e-3;           ///< relative intensity at or below which a pixel is in shadow
   bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling (objects)
   /// graphcut, graphcut_two, objects with occluding_contour: TiltEnergyParams::contour_weight, the
-  /// pull of the outline's pixels toward normals pointing outward. Off: the tuning procedure's
-  /// training surfaces hold no torus- or vase-like object yet to choose it on (docs/method.md).
-  double contour_weight = 0.0;
+  /// pull of the outline's pixels toward normals pointing outward. Tuned (docs/parameters.md).
+  double contour_weight = 10.0;
   /// graphcut: > 0 also labels the image, at the coarsest level of coarse to fine, with the energy
   /// pulled toward the normals of its viscosity solution (upwind.hpp; GlobalStepParams::viscosity_weight,
   /// this weight), integrates both labellings and keeps the one whose depth renders closer to the
-  /// image; the finer levels refine it. 0 = the paper's energy alone.
-  double viscosity_weight = 0.0;
+  /// image; the finer levels refine it. When that is the pulled one, the paper's labelling is
+  /// finished too and the choice made again on the returned depths (brightness_residual over the
+  /// mask without shadows and highlights). 0 = the paper's energy alone. Tuned (docs/parameters.md).
+  double viscosity_weight = 0.3;
   /// graphcut: after integration, fit the depth to the image (fit_shading.hpp): the
   /// normals are then the depth's, integrable, and render closer to the image. Not with seamless.
   /// Off by default: it wins on the training surfaces but adds 3.4-6.1 s to a call of 0.08-1.1 s
@@ -138,9 +139,10 @@ struct ReconstructStats {
   double allowed_label_fraction = 0.0;      ///< share of (pixel, label) pairs left after pruning
   int shadow_pixels = 0;                    ///< pixels whose normals were filled from their neighbours
                                             ///< (attached shadows and highlights: fill_normals)
-  /// viscosity_weight: the mean squared brightness residual, at the coarsest level, of the paper's
-  /// labelling's integrated depth and of the pulled one's, and whether the pulled one was kept (then
-  /// the graph-cut statistics above are its own); 0, 0, false when it did not run.
+  /// viscosity_weight: the mean squared brightness residuals of the paper's labelling's integrated
+  /// depth and of the pulled one's on which the choice was made (the returned depths' when the pulled
+  /// one led at the coarsest level, else that level's), and whether the pulled one was kept (then the
+  /// graph-cut statistics above are its own); 0, 0, false when it did not run.
   double paper_residual = 0.0;
   double pulled_residual = 0.0;
   bool pulled_kept = false;
