@@ -44,7 +44,7 @@ struct GlobalStepParams {
   double viscosity_weight = 0.0;
   int viscosity_rounds = 100;        ///< upwind's iterations
   double shadow_threshold = 1e-3;    ///< unreliable_pixels' thresholds for that choice (< 0: no shadows)
-  double highlight_threshold = 1.05;
+  double highlight_threshold = 0.0;
   bool occluding_contour = true;     ///< fill_normals' outline rule for that choice
 };
 

@@ -90,8 +90,9 @@ struct ReconstructOptions {
   std::optional<LightMethod> light_method;
   AlbedoMethod albedo_method = AlbedoMethod::TopFit;       ///< the estimator used when no albedo is given with a light
   /// Pixels brighter than this times the albedo, which no Lambertian surface of that albedo shows
-  /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never.
-  double highlight_threshold = 1.05;
+  /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never
+  /// (the default, tuned: docs/parameters.md).
+  double highlight_threshold = 0.0;
   std::optional<double> min_curvature;      ///< curvature in units of the object below which the local tilt is undefined (local_shape); unset = method_defaults
   bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
   double max_slope = 10.0;                  ///< gradient clamp of the integrator
@@ -114,7 +115,7 @@ struct ReconstructOptions {
   /// (256-1024 px, docs/benchmarks.md, "Fitting the depth to the image").
   bool fit_shading = false;
   /// FitShadingParams::smoothness, tuned (docs/parameters.md).
-  double fit_smoothness = 0.3;
+  double fit_smoothness = 0.05;
   /// Reliefs over the whole image: depth and normals that tile, the image's opposite edges meeting
   /// (integrate_periodic, normals_from_periodic_depth), for seamless textures. Needs scene = Relief
   /// and no mask, or one that covers every pixel; the integrator setting is then not used.
