@@ -16,12 +16,11 @@ BrooksHornResult brooks_horn(const ImageF& image, const Mask& mask, const LightF
                              const BrooksHornParams& params, const Progress& progress) {
   check_image(image);
   check_mask(mask, image);
-  if (!(albedo > 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
+  check_albedo(albedo);
   if (!(params.smoothness > 0.25) || !std::isfinite(params.smoothness))
     throw InvalidArgument("shadecut: the smoothness of brooks_horn must be finite and > 1/4 per pixel (below, its "
                           "sweeps overshoot the brightness and never converge); got " + std::to_string(params.smoothness));
-  if (params.iterations < 1)
-    throw InvalidArgument("shadecut: iterations must be at least 1 (got " + std::to_string(params.iterations) + ")");
+  check_iterations(params.iterations);
   if (!(params.tolerance >= 0.0) || !std::isfinite(params.tolerance))
     throw InvalidArgument("shadecut: the tolerance must be finite and >= 0");
 

@@ -19,7 +19,7 @@ LocalShape local_shape(const ImageF& image, const Mask& mask, const LightFrame& 
                        double min_curvature) {
   check_image(image);
   check_mask(mask, image);
-  if (!(albedo > 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
+  check_albedo(albedo);
   if (!(min_curvature >= 0.0) || !std::isfinite(min_curvature))
     throw InvalidArgument("shadecut: min_curvature must be finite and >= 0");
   const int rows = int(image.rows()), cols = int(image.cols());

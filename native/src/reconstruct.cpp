@@ -153,7 +153,7 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, float brightes
   if (albedo) result.albedo = *albedo;
   else if (options.scene == SceneKind::Relief) result.albedo = relief_albedo(image, mask, frame.direction);
   else result.albedo = estimate_albedo(image, mask, options.albedo_method);
-  if (!(result.albedo > 0.0) || !std::isfinite(result.albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
+  check_albedo(result.albedo);
   if (brightest <= 1e-6f * result.albedo)
     throw InvalidArgument("shadecut: the image is dark everywhere in the mask compared with the albedo " +
                           std::to_string(result.albedo) + "; nothing to reconstruct");
@@ -226,6 +226,20 @@ NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFr
   return std::move(solved.normals);
 }
 
+// The normals of a method that solves for the depth (tsai_shah, upwind): `solve` is called with the
+// iterations to run and returns its result; its stage is the method's name.
+template <class Solve>
+NormalMap depth_method_normals(Method method, const Mask& mask, const ReconstructOptions& options, const Progress& progress,
+                               ReconstructStats& stats, Solve solve) {
+  const Stopwatch stopwatch;
+  const std::string stage = to_string(method);
+  progress.report(0.0, stage);
+  const auto solved = solve(options.iterations.value_or(method_defaults(method).iterations));
+  stats.seconds[stage] = stopwatch.seconds();
+  stats.iterations = solved.iterations;
+  return normals_from_depth(solved.depth, mask);
+}
+
 // The normals of the chosen method; every stage's seconds go into the stats.
 NormalMap solve_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
                         const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
@@ -237,22 +251,14 @@ NormalMap solve_normals(const ImageF& image, const Mask& mask, const LightFrame&
       stats.seconds["brooks_horn"] = stopwatch.seconds();
       return normals;
     }
-    case Method::TsaiShah: {
-      progress.report(0.0, "tsai_shah");
-      const int sweeps = options.iterations.value_or(method_defaults(Method::TsaiShah).iterations);
-      const TsaiShahResult solved = tsai_shah(image, mask, frame, albedo, sweeps, progress);
-      stats.seconds["tsai_shah"] = stopwatch.seconds();
-      stats.iterations = solved.iterations;
-      return normals_from_depth(solved.depth, mask);
-    }
-    case Method::Upwind: {
-      progress.report(0.0, "upwind");
-      const int rounds = options.iterations.value_or(method_defaults(Method::Upwind).iterations);
-      const UpwindResult solved = upwind(image, mask, frame, albedo, rounds, progress);
-      stats.seconds["upwind"] = stopwatch.seconds();
-      stats.iterations = solved.iterations;
-      return normals_from_depth(solved.depth, mask);
-    }
+    case Method::TsaiShah:
+      return depth_method_normals(Method::TsaiShah, mask, options, progress, stats, [&](int sweeps) {
+        return tsai_shah(image, mask, frame, albedo, sweeps, progress);
+      });
+    case Method::Upwind:
+      return depth_method_normals(Method::Upwind, mask, options, progress, stats, [&](int rounds) {
+        return upwind(image, mask, frame, albedo, rounds, progress);
+      });
     case Method::LeeRosenfeld: {
       progress.report(0.0, "local");
       const double min_curvature = options.min_curvature.value_or(method_defaults(Method::LeeRosenfeld).min_curvature);

@@ -127,8 +127,8 @@ UpwindResult upwind(const ImageF& image, const Mask& mask, const LightFrame& lig
                     const Progress& progress) {
   check_image(image);
   check_mask(mask, image);
-  if (!(albedo > 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
-  if (iterations < 1) throw InvalidArgument("shadecut: iterations must be at least 1 (got " + std::to_string(iterations) + ")");
+  check_albedo(albedo);
+  check_iterations(iterations);
 
   const int rows = int(image.rows()), cols = int(image.cols());
   const double sx = light.direction.x(), sy = light.direction.y(), sz = light.direction.z();

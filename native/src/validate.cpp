@@ -35,4 +35,12 @@ void check_normals(const NormalMap& normals, int rows, int cols) {
                           " was expected");
 }
 
+void check_albedo(double albedo) {
+  if (!(albedo > 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
+}
+
+void check_iterations(int iterations) {
+  if (iterations < 1) throw InvalidArgument("shadecut: iterations must be at least 1 (got " + std::to_string(iterations) + ")");
+}
+
 }  // namespace shadecut

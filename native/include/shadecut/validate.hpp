@@ -20,4 +20,10 @@ void check_mask_fits(const Mask& mask, const NormalMap& normals);
 /// Throws InvalidArgument unless `normals` is rows x cols.
 void check_normals(const NormalMap& normals, int rows, int cols);
 
+/// Throws InvalidArgument unless the albedo is finite and > 0.
+void check_albedo(double albedo);
+
+/// Throws InvalidArgument unless an iterative method is given at least one iteration.
+void check_iterations(int iterations);
+
 }  // namespace shadecut
