@@ -2,7 +2,8 @@
 // comparison methods brooks_horn and tsai_shah at 256 and 512), default parameters of each method;
 // upwind: the viscosity-solution baseline (to 1024: it is meant for photographs too);
 // *_exact: one level, every label (coarse_to_fine_band = -1); graphcut_band2: a band of two label steps;
-// graphcut_fit: fit_shading on (its stage's share in the fit_shading_ms counter).
+// graphcut_fit: fit_shading on (its stage's share in the fit_shading_ms counter);
+// graphcut_one_labelling: viscosity_weight 0 (the pulled labelling's share; pulled_kept counts its wins).
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=Reconstruct --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true
@@ -52,7 +53,7 @@ const BenchScene& scene_of_size(int size) {
   return cache.emplace(size, std::move(scene)).first->second;
 }
 
-void BM_Reconstruct(benchmark::State& state, Method method, Integrator integrator, int band, bool fit) {
+void BM_Reconstruct(benchmark::State& state, Method method, Integrator integrator, int band, bool fit, double viscosity) {
   const int size = int(state.range(0));
   const BenchScene& scene = scene_of_size(size);
   ReconstructOptions options;
@@ -60,18 +61,22 @@ void BM_Reconstruct(benchmark::State& state, Method method, Integrator integrato
   options.integrator = integrator;
   options.coarse_to_fine_band = band;
   options.fit_shading = fit;
+  options.viscosity_weight = viscosity;
   std::map<std::string, double> stage_seconds;
   int iterations = 0;
+  bool pulled_kept = false;
   for (auto _ : state) {
     const Reconstruction result = reconstruct(scene.image, Eigen::Vector3d(1, 0, 1), &scene.mask, 1.0, options);
     for (const auto& [stage, seconds] : result.stats.seconds) stage_seconds[stage] += seconds;
     stage_seconds["maxflow"] += result.stats.maxflow_seconds;
     iterations = result.stats.iterations;
+    pulled_kept = result.stats.pulled_kept;
     benchmark::DoNotOptimize(result.depth.data());
   }
   for (const auto& [stage, seconds] : stage_seconds)
     state.counters[stage + "_ms"] = benchmark::Counter(1e3 * seconds / double(state.iterations()));
   state.counters["iterations"] = iterations;
+  state.counters["pulled_kept"] = pulled_kept;
 }
 
 void register_reconstruct_benchmarks() {
@@ -82,10 +87,13 @@ void register_reconstruct_benchmarks() {
     std::initializer_list<int> sizes;
     int band = ReconstructOptions{}.coarse_to_fine_band;
     bool fit = ReconstructOptions{}.fit_shading;
+    double viscosity = ReconstructOptions{}.viscosity_weight;
   };
   const Case cases[] = {
       {"graphcut/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}},
       {"graphcut/poisson", Method::GraphCut, Integrator::Poisson, {256, 512, 1024}},
+      {"graphcut_one_labelling/poisson", Method::GraphCut, Integrator::Poisson, {256, 512, 1024},
+       ReconstructOptions{}.coarse_to_fine_band, false, 0.0},
       {"graphcut_fit/poisson", Method::GraphCut, Integrator::Poisson, {256, 512, 1024}, ReconstructOptions{}.coarse_to_fine_band, true},
       {"graphcut_exact/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, -1},
       {"graphcut_band2/frankot_chellappa", Method::GraphCut, Integrator::FrankotChellappa, {256, 512, 1024}, 2},
@@ -98,7 +106,7 @@ void register_reconstruct_benchmarks() {
   };
   for (const Case& c : cases) {
     auto* bench = benchmark::RegisterBenchmark((std::string("BM_Reconstruct/") + c.name).c_str(), BM_Reconstruct,
-                                               c.method, c.integrator, c.band, c.fit);
+                                               c.method, c.integrator, c.band, c.fit, c.viscosity);
     for (int size : c.sizes) bench->Arg(size);
     bench->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
   }
