@@ -68,8 +68,12 @@ options:
                        solution's (default )" << defaults.coarse_to_fine_band << R"(); -1 = exact alpha-expansion over every label
   --band-radius R      coarse to fine: only pixels within R pixels of a jump of the half-resolution
                        labels keep the band (default )" << defaults.coarse_to_fine_radius << R"(); -1 = every pixel
+  --contour-weight W   graph cuts, objects: pull of the outline toward outward normals (default )" << defaults.contour_weight << R"()
+  --viscosity-weight W graphcut: pull of a second labelling toward the viscosity solution, kept if
+                       it explains the image better (default )" << defaults.viscosity_weight << R"(); 0 with
+                       --contour-weight 0 = the paper's energy alone
   --fit-shading        graphcut: after integration, fit the depth to the image: more accurate,
-                       3-6 s more per image (default )" << (defaults.fit_shading ? "on" : "off") << R"()
+                       4-10 s more per image (default )" << (defaults.fit_shading ? "on" : "off") << R"()
   --fit-smoothness S   how smooth that fit's correction of the depth is (default )" << defaults.fit_smoothness << R"()
   --threads N          threads, 0 = all cores (default )" << defaults.threads << R"()
   --quiet              no progress
@@ -186,6 +190,10 @@ int main(int argc, char** argv) {
         quiet = true;
       } else if (arg == "--seamless") {
         options.seamless = true;
+      } else if (arg == "--contour-weight") {
+        options.contour_weight = parse_number(arg, value());
+      } else if (arg == "--viscosity-weight") {
+        options.viscosity_weight = parse_number(arg, value());
       } else if (arg == "--fit-shading") {
         options.fit_shading = true;
       } else if (arg == "--fit-smoothness") {

@@ -60,3 +60,19 @@ def test_seamless_relief_tiles_and_an_object_cannot(tmp_path):
     assert seam <= max(np.abs(np.diff(z, axis=1)).max(), np.abs(np.diff(z, axis=0)).max())
     refused = run(tmp_path / "wall.png", "--seamless", "--out", tmp_path / "object", "--quiet")
     assert refused.returncode == 2 and "seamless output is for reliefs" in refused.stderr
+
+
+def test_the_paper_s_energy_alone_from_the_command_line(tmp_path):
+    """--contour-weight 0 --viscosity-weight 0 is reconstruct(contour_weight=0, viscosity_weight=0)."""
+    bumps = synthetic.bumps((1.0, 0.0, 1.0), size=64)
+    shadecut.save_image(tmp_path / "bumps.exr", bumps.image)
+    image = shadecut.load_image(tmp_path / "bumps.exr").image
+    for flags, options in (((), {}), (("--contour-weight", 0, "--viscosity-weight", 0),
+                                      {"contour_weight": 0.0, "viscosity_weight": 0.0})):
+        out = tmp_path / ("paper" if flags else "default")
+        done = run(tmp_path / "bumps.exr", "--light", "1,0,1", "--albedo", 1, "--out", out, "--quiet", *flags)
+        assert done.returncode == 0, done.stderr
+        expected = shadecut.reconstruct(image, (1.0, 0.0, 1.0), albedo=1.0, **options).depth
+        np.testing.assert_allclose(shadecut.load_image(out / "depth.exr").image, expected, atol=1e-4)
+    bad = run(tmp_path / "bumps.exr", "--light", "1,0,1", "--viscosity-weight", -1, "--out", tmp_path / "bad")
+    assert bad.returncode == 2 and "viscosity_weight" in bad.stderr
