@@ -2,9 +2,9 @@
 
 #include <shadecut/convexity_cut.hpp>
 #include <shadecut/downsample.hpp>
-#include <shadecut/integrate.hpp>
 #include <shadecut/render.hpp>
 #include <shadecut/shadow_fill.hpp>
+#include <shadecut/surface_from_normals.hpp>
 #include <shadecut/upwind.hpp>
 
 #include "stopwatch.hpp"
@@ -94,12 +94,10 @@ std::vector<int> start_from_centres(const TiltEnergy& energy, const std::vector<
 double integrated_residual(NormalMap normals, const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
                            const GlobalStepParams& params) {
   const Mask unreliable = unreliable_pixels(image, mask, albedo, params.shadow_threshold, params.highlight_threshold);
-  fill_normals(normals, unreliable, mask, params.occluding_contour);
-  fold_back_facing(normals, mask);
-  const ImageF depth = integrate_normals(normals, mask, Integrator::Poisson);
-  const Mask counted = mask && !unreliable;
-  return brightness_residual(depth, image, mask, counted, light.direction, albedo) /
-         double(std::max<Eigen::Index>(1, counted.count()));
+  const Surface surface =
+      surface_from_normals(std::move(normals), mask, unreliable, params.occluding_contour, Integrator::Poisson, false,
+                           params.max_slope);
+  return mean_brightness_residual(surface.depth, image, mask, mask && !unreliable, light.direction, albedo);
 }
 
 // Solves one level (after the coarser ones, when there are any) into `result`, reporting progress in

@@ -9,6 +9,7 @@
 #include <shadecut/relief.hpp>
 #include <shadecut/render.hpp>
 #include <shadecut/shadow_fill.hpp>
+#include <shadecut/surface_from_normals.hpp>
 #include <shadecut/tsai_shah.hpp>
 #include <shadecut/upwind.hpp>
 #include <shadecut/validate.hpp>
@@ -54,33 +55,14 @@ void fit_depth_to_image(const ImageF& image, const Mask& fitted, const LightFram
   result.stats.seconds["fit_shading"] = stopwatch.seconds();
 }
 
+// The relative intensity at or below which a pixel counts as shadow; < 0 (none) when shadows are not filled.
+double shadow_threshold_used(const ReconstructOptions& options) {
+  return options.fill_shadows ? options.shadow_threshold : -1.0;
+}
+
 // Whether the mask's edge is the object's outline (an occluding contour): never for a relief.
 bool edge_is_outline(const ReconstructOptions& options) {
   return options.occluding_contour && options.scene == SceneKind::Object;
-}
-
-// A labelling's normals after the shared finishing: filled where unreliable, folded to face the
-// viewer, and integrated.
-struct Surface {
-  NormalMap normals;
-  ImageF depth;
-  int shadow_pixels = 0;
-};
-
-Surface integrate_surface(NormalMap normals, const Mask& mask, const Mask& unreliable, const ReconstructOptions& options,
-                          const Progress& progress) {
-  Surface surface;
-  surface.shadow_pixels = fill_normals(normals, unreliable, mask, edge_is_outline(options));
-  fold_back_facing(normals, mask);
-  if (options.seamless) {
-    // A tiling surface has no ramp to flatten: its mean gradient is dropped by the integration.
-    surface.depth = integrate_periodic(normals, options.max_slope);
-    surface.normals = normals_from_periodic_depth(surface.depth);
-  } else {
-    surface.depth = integrate_normals(normals, mask, options.integrator, options.max_slope, progress);
-    surface.normals = std::move(normals);
-  }
-  return surface;
 }
 
 // `kept` holds the pulled labelling's surface (statistics `stats`), `paper` the paper's labelling's
@@ -89,9 +71,8 @@ Surface integrate_surface(NormalMap normals, const Mask& mask, const Mask& unrel
 // seconds.
 void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& counted, const LightFrame& frame, double albedo,
                           Surface paper, ReconstructStats paper_stats, Surface& kept, ReconstructStats& stats) {
-  const double pixels = double(std::max<Eigen::Index>(1, counted.count()));
   auto residual = [&](const Surface& surface) {
-    return brightness_residual(surface.depth, image, mask, counted, frame.direction, albedo) / pixels;
+    return mean_brightness_residual(surface.depth, image, mask, counted, frame.direction, albedo);
   };
   const double paper_residual = residual(paper), pulled_residual = residual(kept);
   std::map<std::string, double> seconds = stats.seconds;
@@ -199,9 +180,10 @@ GlobalStepParams global_step_params(const ReconstructOptions& options) {
   params.refine = options.refine;
   // Tuned for graphcut only (docs/parameters.md).
   params.viscosity_weight = options.method == Method::GraphCut ? options.viscosity_weight : 0.0;
-  params.shadow_threshold = options.fill_shadows ? options.shadow_threshold : -1.0;
+  params.shadow_threshold = shadow_threshold_used(options);
   params.highlight_threshold = options.highlight_threshold;
   params.occluding_contour = edge_is_outline(options);
+  params.max_slope = options.max_slope;
   return params;
 }
 
@@ -328,14 +310,15 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   result.mask = mask;
   const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
   const detail::ThreadCountScope threads(options.threads);
-  const double shadow_threshold = options.fill_shadows ? options.shadow_threshold : -1.0;
-  const Mask unreliable = unreliable_pixels(image, mask, result.albedo, shadow_threshold, options.highlight_threshold);
+  const Mask unreliable =
+      unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), options.highlight_threshold);
   // The normals, then their integration, in [begin, end] of the call.
   auto surface_of = [&](const ReconstructOptions& solved, double begin, double split, double end, ReconstructStats& stats) {
     NormalMap normals = solve_normals(image, mask, frame, result.albedo, solved, progress.range(begin, split), stats);
     progress.report(split, "integration");
     const Stopwatch integration;
-    Surface surface = integrate_surface(std::move(normals), mask, unreliable, options, progress.range(split, end));
+    Surface surface = surface_from_normals(std::move(normals), mask, unreliable, edge_is_outline(options), options.integrator,
+                                           options.seamless, options.max_slope, progress.range(split, end));
     stats.seconds["integration"] += integration.seconds();
     return surface;
   };
@@ -353,7 +336,7 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
   }
   result.normals = std::move(surface.normals);
   result.depth = std::move(surface.depth);
-  result.stats.shadow_pixels = surface.shadow_pixels;
+  result.stats.shadow_pixels = surface.filled_pixels;
   if (fits_shading(options)) {
     fit_depth_to_image(image, mask && !unreliable, frame, options, progress.range(kIntegratedShare, 1.0), result);
   } else {

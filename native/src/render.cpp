@@ -59,4 +59,10 @@ double brightness_residual(const ImageF& depth, const ImageF& image, const Mask&
   return counted.select((rendered - image).cast<double>().square(), 0.0).sum();
 }
 
+double mean_brightness_residual(const ImageF& depth, const ImageF& image, const Mask& mask, const Mask& counted,
+                                const Eigen::Vector3d& light, double albedo) {
+  const Eigen::Index pixels = counted.count();
+  return pixels ? brightness_residual(depth, image, mask, counted, light, albedo) / double(pixels) : 0.0;
+}
+
 }  // namespace shadecut

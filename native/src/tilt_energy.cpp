@@ -135,17 +135,19 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
     return terms;
   };
   auto label_nz = [&](const PixelTerms& terms, int k) { return terms.nz_base - terms.nz_step * cos_label[std::size_t(k)]; };
-  // The occluding contour's term (TiltEnergyParams::contour_weight); 0 off the outline.
-  auto contour_cost = [&](const PixelTerms& terms, int k) {
-    if (terms.outward.isZero()) return 0.0;
+  // `cost` plus the terms that look at the label's whole normal n, which is computed once for both:
+  // the occluding contour's (TiltEnergyParams::contour_weight, 0 off the outline) and the reference's.
+  auto with_normal_terms = [&](const PixelTerms& terms, int k, double cost) {
+    const bool on_outline = !terms.outward.isZero();
+    if (!on_outline && !referenced) return cost;
     const Eigen::Vector3d n = light.normal(terms.s, label_angle[std::size_t(k)]);
-    const double across = n.head<2>().norm();
-    const double cos_d = across > 1e-9 ? n.head<2>().dot(terms.outward) / across : 0.0;
-    return params.contour_weight * 0.5 * (1.0 - cos_d);
-  };
-  auto reference_cost = [&](const PixelTerms& terms, int k) {
-    if (!referenced) return 0.0;
-    return params.reference_weight * (light.normal(terms.s, label_angle[std::size_t(k)]) - terms.reference).norm();
+    if (on_outline) {
+      const double across = n.head<2>().norm();
+      const double cos_d = across > 1e-9 ? n.head<2>().dot(terms.outward) / across : 0.0;
+      cost += params.contour_weight * 0.5 * (1.0 - cos_d);
+    }
+    if (referenced) cost += params.reference_weight * (n - terms.reference).norm();
+    return cost;
   };
   auto data_cost_of = [&](const PixelTerms& terms, int k) -> double {
     const double angle = label_angle[std::size_t(k)];
@@ -158,7 +160,7 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
   };
   auto label_cost = [&](const PixelTerms& terms, int k) {
     if (label_nz(terms, k) <= kMinFrontFacing) return kProhibited;
-    return float(data_cost_of(terms, k) + contour_cost(terms, k) + reference_cost(terms, k));
+    return float(with_normal_terms(terms, k, data_cost_of(terms, k)));
   };
 
   // The windows: a pixel with a band centre keeps the band (or only its centre, when frozen), unless

@@ -46,6 +46,7 @@ struct GlobalStepParams {
   double shadow_threshold = 1e-3;    ///< unreliable_pixels' thresholds for that choice (< 0: no shadows)
   double highlight_threshold = 0.0;
   bool occluding_contour = true;     ///< fill_normals' outline rule for that choice
+  double max_slope = 10.0;           ///< the integrator's gradient clamp for that choice
 };
 
 struct GlobalStepResult {

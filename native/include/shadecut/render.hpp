@@ -43,4 +43,8 @@ ImageF render_lambertian(const NormalMap& normals, const Eigen::Vector3d& light,
 double brightness_residual(const ImageF& depth, const ImageF& image, const Mask& mask, const Mask& counted,
                            const Eigen::Vector3d& light, double albedo);
 
+/// brightness_residual per counted pixel (0 when none is counted): comparable between image sizes.
+double mean_brightness_residual(const ImageF& depth, const ImageF& image, const Mask& mask, const Mask& counted,
+                                const Eigen::Vector3d& light, double albedo);
+
 }  // namespace shadecut
