@@ -28,7 +28,7 @@ ProgressCallback = Callable[[float, str], Optional[bool]]
 ReconstructOptions = _core.ReconstructOptions
 ReconstructOptions.__doc__ = """Every setting of :func:`reconstruct`, with its default.
 
-The defaults are held once, in C++ (``native/include/shadecut/reconstruct.hpp``); print
+The defaults are held once, in C++ (``native/include/shadecut/pipeline/reconstruct.hpp``); print
 ``ReconstructOptions()`` to see them. ``ReconstructOptions(labels=24)`` starts from the defaults,
 ``options.replace(labels=24)`` from another set; an unknown name raises TypeError. Enum fields take
 the enum or its name: ``method="lee_rosenfeld"``. The meaning of each field: docs/python_api.md.

@@ -1,9 +1,9 @@
 // shadecut: reconstruct one image file into depth, normal and mesh files, without Blender.
-#include <shadecut/errors.hpp>
-#include <shadecut/estimate_light.hpp>
-#include <shadecut/image_io.hpp>
-#include <shadecut/integrate.hpp>
-#include <shadecut/reconstruct.hpp>
+#include <shadecut/support/errors.hpp>
+#include <shadecut/estimate/estimate_light.hpp>
+#include <shadecut/io/image_io.hpp>
+#include <shadecut/integrate/integrate.hpp>
+#include <shadecut/pipeline/reconstruct.hpp>
 
 #include <cmath>
 #include <cstdint>

@@ -7,8 +7,8 @@
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=Integrate --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true
-#include <shadecut/integrate.hpp>
-#include <shadecut/mask_components.hpp>
+#include <shadecut/integrate/integrate.hpp>
+#include <shadecut/support/mask_components.hpp>
 
 #include <Eigen/SparseCholesky>
 #include <benchmark/benchmark.h>

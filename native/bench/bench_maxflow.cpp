@@ -1,13 +1,13 @@
 // Max-flow solvers on graphs shaped like ShadeCut's expansion moves, synthetic and real.
-#include <shadecut/alpha_expansion.hpp>
-#include <shadecut/convexity_cut.hpp>
-#include <shadecut/grid_graph.hpp>
-#include <shadecut/light.hpp>
-#include <shadecut/local_shape.hpp>
+#include <shadecut/graphcut/alpha_expansion.hpp>
+#include <shadecut/graphcut/convexity_cut.hpp>
+#include <shadecut/graphcut/grid_graph.hpp>
+#include <shadecut/support/light.hpp>
+#include <shadecut/local/local_shape.hpp>
 #include <reference_maxflow.hpp>
-#include <shadecut/reconstruct.hpp>
-#include <shadecut/render.hpp>
-#include <shadecut/tilt_energy.hpp>
+#include <shadecut/pipeline/reconstruct.hpp>
+#include <shadecut/support/render.hpp>
+#include <shadecut/graphcut/tilt_energy.hpp>
 
 #include <benchmark/benchmark.h>
 

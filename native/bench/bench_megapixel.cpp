@@ -13,10 +13,10 @@
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=BM_Megapixel --benchmark_repetitions=3
 // or scripts/benchmark_megapixel.py, which prints the medians and their ratios as a table.
-#include <shadecut/global_step.hpp>
-#include <shadecut/maxflow.hpp>
-#include <shadecut/reconstruct.hpp>
-#include <shadecut/render.hpp>
+#include <shadecut/graphcut/global_step.hpp>
+#include <shadecut/graphcut/maxflow.hpp>
+#include <shadecut/pipeline/reconstruct.hpp>
+#include <shadecut/support/render.hpp>
 
 #include <benchmark/benchmark.h>
 #include <opencv2/core.hpp>  // before gcgraph.hpp, which uses CV_Assert without including it

@@ -7,8 +7,8 @@
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=Reconstruct --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true
-#include <shadecut/reconstruct.hpp>
-#include <shadecut/render.hpp>
+#include <shadecut/pipeline/reconstruct.hpp>
+#include <shadecut/support/render.hpp>
 
 #include <benchmark/benchmark.h>
 

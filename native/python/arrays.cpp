@@ -1,6 +1,6 @@
 #include "arrays.hpp"
 
-#include <shadecut/errors.hpp>
+#include <shadecut/support/errors.hpp>
 
 #include <cstring>
 #include <string>

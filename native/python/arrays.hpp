@@ -2,7 +2,7 @@
 // checks every bound function shares.
 #pragma once
 
-#include <shadecut/types.hpp>
+#include <shadecut/support/types.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

@@ -4,8 +4,8 @@
 
 #include "arrays.hpp"
 
-#include <shadecut/errors.hpp>
-#include <shadecut/reconstruct.hpp>
+#include <shadecut/support/errors.hpp>
+#include <shadecut/pipeline/reconstruct.hpp>
 
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>

@@ -5,17 +5,17 @@
 #include "bind_reconstruct.hpp"
 #include "python_errors.hpp"
 
-#include <shadecut/angular_error.hpp>
-#include <shadecut/downsample.hpp>
-#include <shadecut/errors.hpp>
-#include <shadecut/estimate_light.hpp>
-#include <shadecut/height_field_mesh.hpp>
-#include <shadecut/integrate.hpp>
-#include <shadecut/light.hpp>
-#include <shadecut/intensity.hpp>
-#include <shadecut/mask_components.hpp>
-#include <shadecut/reconstruct.hpp>
-#include <shadecut/render.hpp>
+#include <shadecut/support/angular_error.hpp>
+#include <shadecut/support/downsample.hpp>
+#include <shadecut/support/errors.hpp>
+#include <shadecut/estimate/estimate_light.hpp>
+#include <shadecut/integrate/height_field_mesh.hpp>
+#include <shadecut/integrate/integrate.hpp>
+#include <shadecut/support/light.hpp>
+#include <shadecut/support/intensity.hpp>
+#include <shadecut/support/mask_components.hpp>
+#include <shadecut/pipeline/reconstruct.hpp>
+#include <shadecut/support/render.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

@@ -5,7 +5,7 @@
 #include "arrays.hpp"
 #include "python_errors.hpp"
 
-#include <shadecut/image_io.hpp>
+#include <shadecut/io/image_io.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

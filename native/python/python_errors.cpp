@@ -1,6 +1,6 @@
 #include "python_errors.hpp"
 
-#include <shadecut/errors.hpp>
+#include <shadecut/support/errors.hpp>
 
 #include <pybind11/pybind11.h>
 

@@ -1,6 +1,6 @@
 // Adapter for boost::boykov_kolmogorov_max_flow on a boost::adjacency_list. It is the slowest solver
 // and serves as the reference the others are tested against, so it computes in double.
-#include "maxflow_impl.hpp"
+#include "graphcut/maxflow_impl.hpp"
 
 // GCC 12 mistakes the edge iterators' boost::optional members for uninitialized once inlined.
 #pragma GCC diagnostic push

@@ -1,5 +1,5 @@
 // Adapter for cv::detail::GCGraph, OpenCV's Boykov-Kolmogorov implementation on a general graph.
-#include "maxflow_impl.hpp"
+#include "graphcut/maxflow_impl.hpp"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc/detail/gcgraph.hpp>

@@ -1,9 +1,9 @@
 #include "reference_maxflow.hpp"
 
-#include "enum_names.hpp"
-#include "maxflow_impl.hpp"
+#include "support/enum_names.hpp"
+#include "graphcut/maxflow_impl.hpp"
 
-#include <shadecut/errors.hpp>
+#include <shadecut/support/errors.hpp>
 
 #include <string>
 #include <vector>

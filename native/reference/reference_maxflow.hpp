@@ -4,7 +4,7 @@
 // program link this one.
 #pragma once
 
-#include <shadecut/maxflow.hpp>
+#include <shadecut/graphcut/maxflow.hpp>
 
 #include <memory>
 #include <string>

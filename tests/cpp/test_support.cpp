@@ -1,6 +1,6 @@
 #include "test_support.hpp"
 
-#include <shadecut/render.hpp>
+#include <shadecut/support/render.hpp>
 
 #include <algorithm>
 #include <cmath>

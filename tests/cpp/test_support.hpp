@@ -1,7 +1,7 @@
 // Synthetic scenes with exact ground truth, shared by the C++ tests.
 #pragma once
 
-#include <shadecut/types.hpp>
+#include <shadecut/support/types.hpp>
 
 #include <Eigen/Core>
 

@@ -1,0 +1,190 @@
+// The whole pipeline: one shaded image in, normals and depth out.
+#pragma once
+
+#include <shadecut/estimate/estimate_albedo.hpp>
+#include <shadecut/estimate/estimate_light.hpp>
+#include <shadecut/graphcut/global_step.hpp>
+#include <shadecut/integrate/integrate.hpp>
+#include <shadecut/support/progress.hpp>
+#include <shadecut/support/types.hpp>
+
+#include <Eigen/Core>
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace shadecut {
+
+enum class Method {
+  GraphCut,     ///< "graphcut": the paper's eq. (15) energy, minimized by alpha-expansion
+  GraphCutTwo,  ///< "graphcut_two": the paper's eq. (10), every pixel restricted to its two candidates
+  LeeRosenfeld, ///< "lee_rosenfeld": the local method under the convex assumption (no global step)
+  BrooksHorn,   ///< "brooks_horn": Brooks & Horn's variational iteration (brooks_horn.hpp), normals integrated
+  TsaiShah,     ///< "tsai_shah": Tsai & Shah's linearized depth iteration (tsai_shah.hpp), normals from its depth
+  Upwind,       ///< "upwind": the viscosity solution by upwind fast sweeping (upwind.hpp), normals from its depth
+};
+
+/// What the image shows, which fixes what shading alone cannot.
+enum class SceneKind {
+  Object,  ///< "object": an object seen whole against a background; the mask's edge is its outline
+  Relief,  ///< "relief": a surface that fills the frame and on average faces the viewer (relief.hpp):
+           ///< the albedo is mean intensity / S_z and the depth sits on a flat carrier, no ramp
+};
+
+const std::vector<std::string>& scene_kind_names();
+SceneKind parse_scene_kind(const std::string& name);
+std::string to_string(SceneKind kind);
+
+/// Every method's name, in the order of the enum.
+const std::vector<std::string>& method_names();
+
+/// Parses one of method_names(); throws InvalidArgument otherwise.
+Method parse_method(const std::string& name);
+std::string to_string(Method method);
+
+/// Per-method defaults chosen by scripts/tune_parameters.py on training surfaces (docs/parameters.md).
+/// A field a method does not use is 0.
+struct MethodDefaults {
+  double min_curvature;
+  double undefined_weight;
+  double tolerance;   ///< graphcut, graphcut_two: share of the energy; brooks_horn: mean |dn| per sweep
+  int iterations;     ///< brooks_horn, tsai_shah; upwind: most rounds of sweeps
+  double smoothness;  ///< brooks_horn
+};
+MethodDefaults method_defaults(Method method);
+
+/// The fewest tilt labels the energy can be built with.
+constexpr int kMinLabels = 4;
+/// The most threads a call may ask for: more than the machine has only costs memory.
+constexpr int kMaxThreads = 256;
+
+/// Every setting of reconstruct(), with its default: the one place defaults are held. The Python
+/// binding, the command-line tool and the Blender add-on read them from here. Per-object weights
+/// are scaled to the object's size by unary_scale (local_shape.hpp).
+struct ReconstructOptions {
+  SceneKind scene = SceneKind::Object;
+  Method method = Method::GraphCut;
+  int labels = 36;                          ///< K tilt labels
+  /// lambda of eq. (15) for an object of kReferenceObjectSize pixels, tuned (graphcut only).
+  double data_weight = 0.2;
+  std::optional<double> undefined_weight;   ///< TiltEnergyParams::undefined_weight at kReferenceObjectSize (unary_scale); unset = method_defaults
+  Integrator integrator = Integrator::Poisson;
+  int max_cycles = 20;                      ///< alpha-expansion stops earlier when a cycle gains nothing
+  /// graphcut, graphcut_two: coarse to fine (GlobalStepParams::band): each pixel keeps the labels
+  /// within this many steps of its label at half resolution; < 0 = one level, every label.
+  int coarse_to_fine_band = 1;
+  /// graphcut, graphcut_two: with a band, only pixels within this many pixels of a jump of the
+  /// half-resolution labelling keep it (GlobalStepParams::band_radius; 0 = the pixels of the jump
+  /// only); the others keep their coarse label; < 0 = the band everywhere. Chosen by
+  /// scripts/tune_parameters.py --band-radius: the smallest radius within 0.1 deg of the band
+  /// everywhere on the training surfaces.
+  int coarse_to_fine_radius = 0;
+  std::optional<double> tolerance;          ///< convergence tolerance (MethodDefaults::tolerance); unset = method_defaults
+  std::optional<int> iterations;            ///< brooks_horn, tsai_shah sweeps, upwind rounds; unset = method_defaults
+  /// brooks_horn lambda for an object of kReferenceObjectSize pixels (the per-pixel weight is this
+  /// times (object_size / kReferenceObjectSize)^2, at least kStableSmoothness); unset = method_defaults
+  std::optional<double> smoothness;
+  /// the estimator used when no light is given; unset = by scene (light_method_used)
+  std::optional<LightMethod> light_method;
+  AlbedoMethod albedo_method = AlbedoMethod::TopFit;       ///< the estimator used when no albedo is given with a light
+  /// Pixels brighter than this times the albedo, which no Lambertian surface of that albedo shows
+  /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never
+  /// (the default, tuned: docs/parameters.md).
+  double highlight_threshold = 0.0;
+  std::optional<double> min_curvature;      ///< curvature in units of the object below which the local tilt is undefined (local_shape); unset = method_defaults
+  bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
+  double max_slope = 10.0;                  ///< gradient clamp of the integrator
+  bool fill_shadows = true;                 ///< interpolate normals in attached shadows (fill_normals)
+  double shadow_threshold = 1e-3;           ///< relative intensity at or below which a pixel is in shadow
+  bool occluding_contour = true;            ///< treat the mask's edge as an occluding contour when filling (objects)
+  /// graphcut, graphcut_two, objects with occluding_contour: TiltEnergyParams::contour_weight, the
+  /// pull of the outline's pixels toward normals pointing outward. Tuned (docs/parameters.md).
+  double contour_weight = 10.0;
+  /// graphcut: > 0 also labels the image, at the coarsest level of coarse to fine, with the energy
+  /// pulled toward the normals of its viscosity solution (upwind.hpp; GlobalStepParams::viscosity_weight,
+  /// this weight), integrates both labellings and keeps the one whose depth renders closer to the
+  /// image; the finer levels refine it. When that is the pulled one, the paper's labelling is
+  /// finished too and the choice made again on the returned depths (brightness_residual over the
+  /// mask without shadows and highlights). 0 = the paper's energy alone. Tuned (docs/parameters.md).
+  double viscosity_weight = 0.3;
+  /// graphcut: after integration, fit the depth to the image (fit_shading.hpp): the
+  /// normals are then the depth's, integrable, and render closer to the image. Not with seamless.
+  /// Off by default: it wins on the training surfaces but adds 3.7-10.3 s to a call of 0.15-2.6 s
+  /// (256-1024 px, docs/benchmarks.md, "Fitting the depth to the image").
+  bool fit_shading = false;
+  /// FitShadingParams::smoothness, tuned (docs/parameters.md).
+  double fit_smoothness = 0.05;
+  /// Reliefs over the whole image: depth and normals that tile, the image's opposite edges meeting
+  /// (integrate_periodic, normals_from_periodic_depth), for seamless textures. Needs scene = Relief
+  /// and no mask, or one that covers every pixel; the integrator setting is then not used.
+  bool seamless = false;
+  int threads = 0;                          ///< 0 = all cores
+  /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
+  /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading". Returning false cancels.
+  ProgressCallback progress;
+};
+
+struct ReconstructStats {
+  std::map<std::string, double> seconds;    ///< per stage run ("light", "local", "energy", "graphcut",
+                                            ///< "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading") and "total"
+  std::vector<double> energy_per_cycle;     ///< initial energy, then after every alpha-expansion cycle
+  int cycles = 0;
+  int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps, upwind rounds; 0 for lee_rosenfeld
+  bool light_estimated = false;             ///< whether the light (and, without a given albedo, the albedo) was estimated
+  int moves = 0;                            ///< expansion moves, summed over the levels
+  int accepted_moves = 0;
+  int levels = 0;                           ///< graphcut, graphcut_two: resolutions solved (coarse to fine)
+  double maxflow_seconds = 0.0;
+  double allowed_label_fraction = 0.0;      ///< share of (pixel, label) pairs left after pruning
+  int shadow_pixels = 0;                    ///< pixels whose normals were filled from their neighbours
+                                            ///< (attached shadows and highlights: fill_normals)
+  /// viscosity_weight: the mean squared brightness residuals of the paper's labelling's integrated
+  /// depth and of the pulled one's on which the choice was made (the returned depths' when the pulled
+  /// one led at the coarsest level, else that level's), and whether the pulled one was kept (then the
+  /// graph-cut statistics above are its own); 0, 0, false when it did not run.
+  double paper_residual = 0.0;
+  double pulled_residual = 0.0;
+  bool pulled_kept = false;
+  /// fit_shading: the brightness residual before and after (FitShadingStats) and the steps taken;
+  /// all 0 when it did not run.
+  double shading_residual_before = 0.0;
+  double shading_residual_after = 0.0;
+  int fit_steps = 0;
+};
+
+struct Reconstruction {
+  NormalMap normals;       ///< H x W camera-frame unit normals, 0 outside the mask
+  ImageF depth;            ///< H x W, pixel units, larger = closer; each mask component's minimum is 0
+  Mask mask;               ///< H x W, the pixels reconstructed
+  double albedo = 0.0;     ///< the albedo used (given or estimated)
+  Eigen::Vector3d light;   ///< unit light direction used, camera frame
+  ReconstructStats stats;
+};
+
+
+/// The light estimator reconstruct() uses when given no light: options.light_method, or for the
+/// scene kind: zheng_chellappa for an object, relief for a relief (whose normals are nothing like
+/// the sphere's the others assume).
+LightMethod light_method_used(const ReconstructOptions& options);
+
+/// What reconstruct() hands global_step for the graph-cut methods (graphcut, graphcut_two): the
+/// options' values, method_defaults where they are unset, and the thread count of the reconstruct()
+/// in progress (every core outside one).
+GlobalStepParams global_step_params(const ReconstructOptions& options);
+
+/// Reconstructs normals and depth from one Lambertian image.
+///
+/// @param[in] image   H x W linear intensity (>= 2 x 2, finite).
+/// @param[in] light   direction toward the light, camera frame, S_z > 0 (normalized here), or
+///                    std::nullopt to estimate it with light_method_used(options) (estimate_light.hpp).
+/// @param[in] mask    H x W pixels to reconstruct, or nullptr for all.
+/// @param[in] albedo  > 0, or std::nullopt: the light estimator's albedo when the light is estimated,
+///                    estimate_albedo with options.albedo_method otherwise.
+/// @param[in] options method and parameters.
+/// Throws InvalidArgument for bad input and Cancelled when options.progress returns false.
+Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,
+                           std::optional<double> albedo, const ReconstructOptions& options);
+
+}  // namespace shadecut

@@ -1,0 +1,29 @@
+// Input checks shared by every entry point, so that every layer rejects bad input with one message.
+#pragma once
+
+#include <shadecut/support/types.hpp>
+
+#include <string>
+
+namespace shadecut {
+
+/// Throws InvalidArgument unless `image` is at least 2 x 2 and every pixel is finite.
+void check_image(const ImageF& image, const std::string& what = "image");
+
+/// Throws InvalidArgument unless `mask` has the shape of `image` and selects at least one pixel.
+void check_mask(const Mask& mask, const ImageF& image);
+
+/// Throws InvalidArgument, naming the mask first, unless `mask` has the shape of `normals`, and when a
+/// normal inside the mask is NaN or infinite.
+void check_mask_fits(const Mask& mask, const NormalMap& normals);
+
+/// Throws InvalidArgument unless `normals` is rows x cols.
+void check_normals(const NormalMap& normals, int rows, int cols);
+
+/// Throws InvalidArgument unless the albedo is finite and > 0.
+void check_albedo(double albedo);
+
+/// Throws InvalidArgument unless an iterative method is given at least one iteration.
+void check_iterations(int iterations);
+
+}  // namespace shadecut

@@ -1,0 +1,213 @@
+#include <shadecut/graphcut/global_step.hpp>
+
+#include <shadecut/graphcut/convexity_cut.hpp>
+#include <shadecut/support/downsample.hpp>
+#include <shadecut/support/render.hpp>
+#include <shadecut/pipeline/shadow_fill.hpp>
+#include <shadecut/integrate/surface_from_normals.hpp>
+#include <shadecut/baselines/upwind.hpp>
+
+#include "support/stopwatch.hpp"
+
+#include <algorithm>
+#include <cstdint>
+
+namespace shadecut {
+
+namespace {
+
+// Share of a level's progress range spent on the levels below it (they have a quarter of its pixels
+// each, and every label open to them).
+constexpr double kCoarseShare = 0.25;
+
+// Fine-resolution centres of a coarse labelling: each fine pixel takes its block's coarse label, -1
+// where the block is outside the coarse mask.
+std::vector<int> upsample_labels(const std::vector<int>& coarse, const Mask& coarse_mask, int rows, int cols) {
+  const int coarse_rows = int(coarse_mask.rows()), coarse_cols = int(coarse_mask.cols());
+  std::vector<int> centre(std::size_t(rows) * cols, -1);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const int cr = r / 2, cc = c / 2;
+      if (cr < coarse_rows && cc < coarse_cols && coarse_mask(cr, cc))
+        centre[std::size_t(r) * cols + c] = coarse[std::size_t(cr) * coarse_cols + cc];
+    }
+  }
+  return centre;
+}
+
+// The pixels that keep only their coarse label: those farther than `radius` (Chebyshev distance)
+// from every jump of the upsampled labelling, a jump being a pair of 4-neighbours more than one label
+// step apart or a masked pixel next to one without a coarse label. Where the coarse labels vary
+// smoothly the fine level has nothing to decide that the snapping to the local candidates
+// (labelling_normals) does not; where they jump, the convex/concave boundary is only known to a
+// coarse pixel.
+std::vector<std::uint8_t> frozen_pixels(const std::vector<int>& centre, const Mask& mask, int labels, int radius) {
+  const int rows = int(mask.rows()), cols = int(mask.cols());
+  radius = std::min(radius, std::max(rows, cols));  // farther reaches nothing more
+  std::vector<std::uint8_t> near_jump(centre.size(), 0);
+  auto jump = [&](std::size_t a, std::size_t b) {
+    if (centre[a] < 0 || centre[b] < 0) return centre[a] != centre[b];
+    const int steps = std::abs(centre[a] - centre[b]);
+    return std::min(steps, labels - steps) > 1;
+  };
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t a = std::size_t(r) * cols + c;
+      if (!mask.data()[a]) continue;
+      if (c + 1 < cols && mask.data()[a + 1] && jump(a, a + 1)) near_jump[a] = near_jump[a + 1] = 1;
+      if (r + 1 < rows && mask.data()[a + cols] && jump(a, a + cols)) near_jump[a] = near_jump[a + cols] = 1;
+      if (centre[a] < 0) near_jump[a] = 1;
+    }
+  }
+  // Dilation by a (2 radius + 1)^2 square, separably: rows, then columns. Along a line, a target
+  // is covered when the last jump seen, `radius` cells ahead of it, lies within 2 radius.
+  auto dilate_line = [radius](const std::uint8_t* in, std::uint8_t* out, int length, std::size_t stride,
+                              std::uint8_t covered) {
+    int last = -radius - 1;
+    for (int i = 0; i < length + radius; ++i) {
+      if (i < length && in[std::size_t(i) * stride]) last = i;
+      const int target = i - radius;
+      if (target >= 0 && i - last <= 2 * radius) out[std::size_t(target) * stride] = covered;
+    }
+  };
+  std::vector<std::uint8_t> across(centre.size(), 0), frozen(centre.size(), 1);
+  for (int r = 0; r < rows; ++r)
+    dilate_line(&near_jump[std::size_t(r) * cols], &across[std::size_t(r) * cols], cols, 1, 1);
+  for (int c = 0; c < cols; ++c) dilate_line(&across[std::size_t(c)], &frozen[std::size_t(c)], rows, std::size_t(cols), 0);
+  return frozen;
+}
+
+// The start of a fine level: the allowed label nearest the centre; the convex labelling where there
+// is no centre.
+std::vector<int> start_from_centres(const TiltEnergy& energy, const std::vector<int>& centre) {
+  std::vector<int> labelling(centre.size(), 0);
+  for (std::size_t p = 0; p < labelling.size(); ++p) {
+    if (!energy.mask().data()[p]) continue;
+    const int nearest = centre[p] < 0 ? -1 : energy.nearest_allowed_label(int(p), energy.label_tilt(centre[p]));
+    labelling[p] = nearest >= 0 ? nearest : energy.convex_label(int(p));
+  }
+  return labelling;
+}
+
+// The mean squared brightness residual of the depth integrated from a labelling's normals, over the
+// reliable pixels: how well the labelling, made integrable, explains the image.
+double integrated_residual(NormalMap normals, const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                           const GlobalStepParams& params) {
+  const Mask unreliable = unreliable_pixels(image, mask, albedo, params.shadow_threshold, params.highlight_threshold);
+  const Surface surface =
+      surface_from_normals(std::move(normals), mask, unreliable, params.occluding_contour, Integrator::Poisson, false,
+                           params.max_slope);
+  return mean_brightness_residual(surface.depth, image, mask, mask && !unreliable, light.direction, albedo);
+}
+
+// Solves one level (after the coarser ones, when there are any) into `result`, reporting progress in
+// [begin, end] of the whole step.
+void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                 const GlobalStepParams& params, MaxFlowSolver& solver, Progress progress, GlobalStepResult& result) {
+  std::vector<int> centre;
+  int coarse_moves = 0, coarse_accepted = 0, coarse_repaired = 0, coarse_levels = 0;
+  double coarse_seconds = 0.0;
+  if (params.band >= 0 && object_size(mask) >= 2.0 * params.coarsest_object_size) {
+    // A coarse pixel lies in the mask only when its whole block does.
+    const auto [half_image, half_mask] = downsample(image, mask, 2, 1.0);
+    if (half_mask.any()) {
+      GlobalStepResult coarse;
+      solve_level(half_image, half_mask, light, albedo, params, solver, progress.range(0.0, kCoarseShare), coarse);
+      centre = upsample_labels(coarse.labelling, half_mask, int(image.rows()), int(image.cols()));
+      coarse_moves = coarse.expansion.moves;
+      coarse_accepted = coarse.expansion.accepted_moves;
+      coarse_repaired = coarse.expansion.repaired_moves;
+      coarse_seconds = coarse.expansion.maxflow_seconds;
+      coarse_levels = coarse.levels;
+      result.seconds = coarse.seconds;
+      result.paper_residual = coarse.paper_residual;
+      result.pulled_residual = coarse.pulled_residual;
+      result.pulled_kept = coarse.pulled_kept;
+      progress = progress.range(kCoarseShare, 1.0);
+    }
+  }
+
+  progress.report(0.0, "local");
+  Stopwatch stage;
+  const LocalShape local = local_shape(image, mask, light, albedo, params.min_curvature);
+  result.seconds["local"] += stage.seconds();
+  progress.report(0.02, "energy");
+  stage.restart();
+  TiltEnergyParams energy_params = params.energy;
+  const double scale = unary_scale(mask);
+  energy_params.data_weight *= scale;
+  energy_params.undefined_weight *= scale;
+  energy_params.band_centre = centre.empty() ? nullptr : &centre;
+  energy_params.band = params.band;
+  std::vector<std::uint8_t> frozen;
+  if (!centre.empty() && params.band_radius >= 0) {
+    frozen = frozen_pixels(centre, mask, params.energy.labels, params.band_radius);
+    energy_params.band_frozen = &frozen;
+  }
+  const TiltEnergy energy(local, light, mask, energy_params);
+  result.seconds["energy"] += stage.seconds();
+  const bool choose = centre.empty() && params.viscosity_weight > 0.0;
+  // Each labelling's share of the level's cuts: both when the coarsest level chooses.
+  const double cuts_end = choose ? 0.5 : 1.0;
+  progress.report(0.05, "graphcut");
+  stage.restart();
+  auto label = [&](const TiltEnergy& labelled, double begin, double end, AlphaExpansionStats& expansion) {
+    std::vector<int> labelling;
+    if (centre.empty()) {
+      labelling = labelled.convex_labelling();
+      convexity_cut(labelled, local, labelling, solver);
+    } else {
+      labelling = start_from_centres(labelled, centre);
+    }
+    expansion = alpha_expansion(labelled, labelling, solver, params.max_cycles, params.tolerance, progress.range(begin, end));
+    return labelling;
+  };
+  std::vector<int> labelling = label(energy, 0.05, cuts_end, result.expansion);
+  result.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * energy.labels());
+  result.seconds["graphcut"] += stage.seconds();
+  result.normals = labelling_normals(labelling, energy, local, light, params.refine);
+  if (choose) {
+    progress.report(cuts_end, "upwind");
+    stage.restart();
+    const NormalMap reference = normals_from_depth(upwind(image, mask, light, albedo, params.viscosity_rounds).depth, mask);
+    result.seconds["upwind"] += stage.seconds();
+    progress.report(cuts_end, "energy");
+    stage.restart();
+    energy_params.reference = &reference;
+    energy_params.reference_weight = params.viscosity_weight * scale;
+    const TiltEnergy pulled_energy(local, light, mask, energy_params);
+    result.seconds["energy"] += stage.seconds();
+    progress.report(cuts_end, "graphcut");
+    stage.restart();
+    AlphaExpansionStats pulled_expansion;
+    std::vector<int> pulled = label(pulled_energy, cuts_end, 1.0, pulled_expansion);
+    NormalMap pulled_normals = labelling_normals(pulled, pulled_energy, local, light, params.refine);
+    result.paper_residual = integrated_residual(result.normals, image, mask, light, albedo, params);
+    result.pulled_residual = integrated_residual(pulled_normals, image, mask, light, albedo, params);
+    result.seconds["graphcut"] += stage.seconds();
+    if (result.pulled_residual < result.paper_residual) {
+      result.pulled_kept = true;
+      labelling = std::move(pulled);
+      result.normals = std::move(pulled_normals);
+      result.expansion = std::move(pulled_expansion);
+      result.allowed_label_fraction = double(pulled_energy.allowed_count()) / (double(mask.count()) * energy.labels());
+    }
+  }
+  result.expansion.moves += coarse_moves;
+  result.expansion.accepted_moves += coarse_accepted;
+  result.expansion.repaired_moves += coarse_repaired;
+  result.expansion.maxflow_seconds += coarse_seconds;
+  result.levels = coarse_levels + 1;
+  result.labelling = std::move(labelling);
+}
+
+}  // namespace
+
+GlobalStepResult global_step(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                             const GlobalStepParams& params, MaxFlowSolver& solver, const Progress& progress) {
+  GlobalStepResult result;
+  solve_level(image, mask, light, albedo, params, solver, progress, result);
+  return result;
+}
+
+}  // namespace shadecut

@@ -1,0 +1,302 @@
+#include <shadecut/graphcut/tilt_energy.hpp>
+
+#include <shadecut/support/errors.hpp>
+#include <shadecut/support/mask_components.hpp>
+
+#include "support/contour.hpp"
+#include "support/parallel.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace shadecut {
+
+namespace {
+
+constexpr float kProhibited = std::numeric_limits<float>::infinity();
+// Normals this close to the image plane are treated as facing away from the viewer.
+constexpr double kMinFrontFacing = 1e-6;
+// Slack of the dead-end test, so that float rounding never drops a label that could tie.
+constexpr float kDominanceSlack = 1e-5f;
+
+// Which connected parts of the mask are outlined by a silhouette (the surface turning away, normals
+// pointing out) rather than a rim (a bowl's edge, normals pointing in). At a silhouette the lit side
+// of the outline is the one facing the light, at a rim the one facing away: the brightness cos(s_p)
+// of the edge pixels, correlated with outward . S_xy, says which. Empty when the term is off.
+struct Outline {
+  MaskComponents components;
+  std::vector<char> silhouette;  // per component
+};
+
+Outline read_outline(const LocalShape& local, const LightFrame& light, const Mask& mask, double contour_weight) {
+  Outline outline;
+  if (!(contour_weight > 0.0)) return outline;
+  outline.components = mask_components(mask);
+  std::vector<double> vote(std::size_t(outline.components.count), 0.0);
+  const Eigen::Vector2d light_across = light.direction.head<2>();
+  for (int r = 0; r < mask.rows(); ++r) {
+    for (int c = 0; c < mask.cols(); ++c) {
+      if (!mask(r, c)) continue;
+      const Eigen::Vector2d outward = detail::contour_outward(mask, r, c);
+      if (outward.isZero()) continue;
+      const double brightness = std::cos(double(local.slant(r, c)));
+      vote[std::size_t(outline.components.labels(r, c))] += brightness * outward.dot(light_across);
+    }
+  }
+  for (double v : vote) outline.silhouette.push_back(v > 0.0);
+  return outline;
+}
+
+// Circular distance between two angles, in [0, pi].
+double angle_distance(double a, double b) {
+  const double d = std::fmod(std::abs(a - b), 2.0 * M_PI);
+  return d > M_PI ? 2.0 * M_PI - d : d;
+}
+
+}  // namespace
+
+double TiltEnergy::label_tilt(int k) const { return 2.0 * M_PI * k / labels_; }
+
+int TiltEnergy::nearest_label(double tilt) const {
+  const long k = std::lround(tilt / (2.0 * M_PI / labels_));
+  return int(((k % labels_) + labels_) % labels_);
+}
+
+TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const Mask& mask,
+                       const TiltEnergyParams& params)
+    : rows_(int(mask.rows())), cols_(int(mask.cols())), labels_(params.labels), mask_(mask) {
+  if (params.labels < 4 || params.labels > kMaxLabels)
+    throw InvalidArgument("shadecut: labels must be between 4 and " + std::to_string(kMaxLabels) + " (got " + std::to_string(params.labels) + ")");
+  if (!(params.data_weight >= 0.0) || !std::isfinite(params.data_weight))
+    throw InvalidArgument("shadecut: data_weight must be finite and >= 0");
+  if (!(params.undefined_weight >= 0.0) || !std::isfinite(params.undefined_weight))
+    throw InvalidArgument("shadecut: undefined_weight must be finite and >= 0");
+  if (!(params.contour_weight >= 0.0) || !std::isfinite(params.contour_weight))
+    throw InvalidArgument("shadecut: contour_weight must be finite and >= 0");
+  if (!(params.reference_weight >= 0.0) || !std::isfinite(params.reference_weight))
+    throw InvalidArgument("shadecut: the weight of the reference normals must be finite and >= 0");
+  const bool referenced = params.reference && params.reference_weight > 0.0;
+  if (referenced && (params.reference->rows != rows_ || params.reference->cols != cols_))
+    throw InvalidArgument("shadecut: the reference normals are not the mask's shape");
+  const int n = rows_ * cols_, k_count = labels_;
+
+  chord_.resize(std::size_t(k_count));
+  for (int d = 0; d < k_count; ++d) chord_[std::size_t(d)] = float(2.0 * std::abs(std::sin(M_PI * d / k_count)));
+
+  weight_right_.assign(std::size_t(n), 0.0f);
+  weight_down_.assign(std::size_t(n), 0.0f);
+  for (int r = 0; r < rows_; ++r) {
+    for (int c = 0; c < cols_; ++c) {
+      if (!mask(r, c)) continue;
+      const int p = r * cols_ + c;
+      if (c + 1 < cols_ && mask(r, c + 1))
+        weight_right_[std::size_t(p)] = std::sin(std::min(local.slant(r, c), local.slant(r, c + 1)));
+      if (r + 1 < rows_ && mask(r + 1, c))
+        weight_down_[std::size_t(p)] = std::sin(std::min(local.slant(r, c), local.slant(r + 1, c)));
+    }
+  }
+
+  std::vector<double> cos_label(static_cast<std::size_t>(k_count)), label_angle(static_cast<std::size_t>(k_count));
+  for (int k = 0; k < k_count; ++k) {
+    label_angle[std::size_t(k)] = label_tilt(k);
+    cos_label[std::size_t(k)] = std::cos(label_angle[std::size_t(k)]);
+  }
+  const double cos_ls = std::cos(light.slant), sin_ls = std::sin(light.slant);
+
+  // R_p(k) before dead-end elimination: +infinity where the normal faces away, or where eq. (10)
+  // allows only the candidates.
+  struct PixelTerms {
+    double s = 0.0, sin_s = 0.0, nz_base = 0.0, nz_step = 0.0, t = 0.0;
+    bool defined = false;
+    int concave_label = 0, convex_label = 0;
+    Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // zero without a reference
+    Eigen::Vector2d outward = Eigen::Vector2d::Zero();  // zero off the outline
+  };
+  const Outline outline = read_outline(local, light, mask, params.contour_weight);
+  auto pixel_terms = [&](int p) {
+    PixelTerms terms;
+    const double s = local.slant.data()[p];
+    terms.s = s;
+    const int component = outline.silhouette.empty() ? -1 : outline.components.labels.data()[p];
+    if (component >= 0 && outline.silhouette[std::size_t(component)])
+      terms.outward = detail::contour_outward(mask, p / cols_, p % cols_);
+    terms.sin_s = std::sin(s);
+    // z of Rz(tS) Ry(sS) n'(s, theta) = nz_base - nz_step cos(theta): the rotation about z leaves it unchanged.
+    terms.nz_base = cos_ls * std::cos(s);
+    terms.nz_step = sin_ls * terms.sin_s;
+    terms.defined = local.tilt_defined.data()[p];
+    terms.t = local.tilt.data()[p];
+    terms.concave_label = nearest_label(terms.t);
+    terms.convex_label = nearest_label(terms.t + M_PI);
+    if (referenced) terms.reference = params.reference->xyz.row(p).transpose().cast<double>();
+    return terms;
+  };
+  auto label_nz = [&](const PixelTerms& terms, int k) { return terms.nz_base - terms.nz_step * cos_label[std::size_t(k)]; };
+  // `cost` plus the terms that look at the label's whole normal n, which is computed once for both:
+  // the occluding contour's (TiltEnergyParams::contour_weight, 0 off the outline) and the reference's.
+  auto with_normal_terms = [&](const PixelTerms& terms, int k, double cost) {
+    const bool on_outline = !terms.outward.isZero();
+    if (!on_outline && !referenced) return cost;
+    const Eigen::Vector3d n = light.normal(terms.s, label_angle[std::size_t(k)]);
+    if (on_outline) {
+      const double across = n.head<2>().norm();
+      const double cos_d = across > 1e-9 ? n.head<2>().dot(terms.outward) / across : 0.0;
+      cost += params.contour_weight * 0.5 * (1.0 - cos_d);
+    }
+    if (referenced) cost += params.reference_weight * (n - terms.reference).norm();
+    return cost;
+  };
+  auto data_cost_of = [&](const PixelTerms& terms, int k) -> double {
+    const double angle = label_angle[std::size_t(k)];
+    if (!terms.defined) return params.undefined_weight * 2.0 * terms.sin_s * std::sin(0.5 * angle_distance(angle, M_PI));
+    if (params.data_term == DataTerm::Soft) {
+      const double d = std::min(angle_distance(angle, terms.t), angle_distance(angle, terms.t + M_PI));
+      return params.data_weight * 2.0 * terms.sin_s * std::sin(0.5 * d);
+    }
+    return k == terms.concave_label || k == terms.convex_label ? 0.0 : double(kProhibited);
+  };
+  auto label_cost = [&](const PixelTerms& terms, int k) {
+    if (label_nz(terms, k) <= kMinFrontFacing) return kProhibited;
+    return float(with_normal_terms(terms, k, data_cost_of(terms, k)));
+  };
+
+  // The windows: a pixel with a band centre keeps the band (or only its centre, when frozen), unless
+  // no label in it is allowed; then it tries the band, and then, like every other masked pixel, keeps
+  // all labels.
+  const bool banded = params.band >= 0 && params.band_centre;
+  planes_ = !banded || (2 * params.band + 1 >= k_count && !params.band_frozen);
+  const int threads = params.threads > 0 ? params.threads : detail::default_thread_count();
+  if (!planes_) {
+    window_first_.assign(std::size_t(n), 0);
+    window_begin_.assign(std::size_t(n) + 1, 0);
+    detail::parallel_for(n, 256, threads, [&](int p) {
+      if (!mask_.data()[p]) return;
+      int width = k_count;
+      const int centre = (*params.band_centre)[std::size_t(p)];
+      if (centre >= 0) {
+        const PixelTerms terms = pixel_terms(p);
+        const bool frozen = params.band_frozen && (*params.band_frozen)[std::size_t(p)];
+        for (int half = frozen ? 0 : params.band; half <= params.band && width == k_count; half += std::max(1, params.band)) {
+          const int first = (centre - half + k_count) % k_count;
+          const int band_width = std::min(2 * half + 1, k_count);
+          for (int j = 0; j < band_width && width == k_count; ++j)
+            if (std::isfinite(label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
+        }
+      }
+      window_begin_[std::size_t(p) + 1] = width;
+    });
+    for (int p = 0; p < n; ++p) window_begin_[std::size_t(p) + 1] += window_begin_[std::size_t(p)];
+  }
+
+  convex_tilt_.assign(std::size_t(n), std::numeric_limits<float>::quiet_NaN());
+  data_cost_.assign(planes_ ? std::size_t(n) * k_count : std::size_t(window_begin_.back()), kProhibited);
+  detail::parallel_for(n, 256, threads, [&](int p) {
+    if (!mask_.data()[p]) return;
+    const PixelTerms terms = pixel_terms(p);
+    if (terms.defined) convex_tilt_[std::size_t(p)] = float(terms.t + M_PI);
+    const int first = planes_ ? 0 : window_first_[std::size_t(p)];
+    const int width = planes_ ? k_count : int(window_begin_[std::size_t(p) + 1] - window_begin_[std::size_t(p)]);
+    std::array<float, kMaxLabels> cost_buffer;
+    float* cost = cost_buffer.data();
+    auto label_at = [&](int j) { return (first + j) % k_count; };
+    int most_frontal = 0;
+    for (int j = 0; j < width; ++j) {
+      cost[j] = label_cost(terms, label_at(j));
+      if (label_nz(terms, label_at(j)) > label_nz(terms, label_at(most_frontal))) most_frontal = j;
+    }
+    // Eq. (10) can leave no label when both candidates face away after discretization.
+    if (std::none_of(cost, cost + width, [](float v) { return std::isfinite(v); })) cost[most_frontal] = 0.0f;
+
+    // Dead-end elimination against the cheapest label and the cheapest one of the other convexity.
+    int best = -1;
+    for (int j = 0; j < width; ++j)
+      if (std::isfinite(cost[j]) && (best < 0 || cost[j] < cost[best])) best = j;
+    int rival = -1;
+    for (int j = 0; j < width; ++j)
+      if (std::isfinite(cost[j]) && label_distance(label_at(j), label_at(best)) > float(M_SQRT2) &&
+          (rival < 0 || cost[j] < cost[rival]))
+        rival = j;
+    const int r = p / cols_, c = p % cols_;
+    const float neighbour_weight = weight_right_[std::size_t(p)] + weight_down_[std::size_t(p)] +
+                                   (c > 0 ? weight_right_[std::size_t(p - 1)] : 0.0f) +
+                                   (r > 0 ? weight_down_[std::size_t(p - cols_)] : 0.0f);
+    for (int j = 0; j < width; ++j) {
+      if (!std::isfinite(cost[j]) || j == best || j == rival) continue;
+      for (int b : {best, rival}) {
+        if (b >= 0 && cost[j] - cost[b] > neighbour_weight * label_distance(label_at(j), label_at(b)) + kDominanceSlack) {
+          cost[j] = kProhibited;
+          break;
+        }
+      }
+    }
+    for (int j = 0; j < width; ++j) data_cost_[std::size_t(slot(p, label_at(j)))] = cost[j];
+  });
+}
+
+double TiltEnergy::energy(const std::vector<int>& labelling) const {
+  double total = 0.0;
+  for (int p = 0; p < rows_ * cols_; ++p) {
+    if (!mask_.data()[p]) continue;
+    const int lp = labelling[std::size_t(p)];
+    total += data_cost(p, lp);
+    if (weight_right_[std::size_t(p)] > 0.0f)
+      total += double(weight_right_[std::size_t(p)]) * label_distance(lp, labelling[std::size_t(p + 1)]);
+    if (weight_down_[std::size_t(p)] > 0.0f)
+      total += double(weight_down_[std::size_t(p)]) * label_distance(lp, labelling[std::size_t(p + cols_)]);
+  }
+  return total;
+}
+
+std::vector<int> TiltEnergy::convex_labelling() const {
+  std::vector<int> labelling(std::size_t(rows_) * cols_, 0);
+  for (int p = 0; p < rows_ * cols_; ++p)
+    if (mask_.data()[p]) labelling[std::size_t(p)] = convex_label(p);
+  return labelling;
+}
+
+int TiltEnergy::convex_label(int pixel) const {
+  const float convex = convex_tilt_[std::size_t(pixel)];
+  return nearest_allowed_label(pixel, std::isnan(convex) ? M_PI : double(convex));
+}
+
+int TiltEnergy::nearest_allowed_label(int pixel, double tilt) const {
+  // Labels in order of their distance to the tilt: the nearest, then alternately one step further
+  // on the tilt's side of it and on the other.
+  const double position = tilt / (2.0 * M_PI / labels_);
+  const long nearest = std::lround(position);
+  const int toward = position >= double(nearest) ? 1 : -1;
+  for (int step = 0; step < labels_; ++step) {
+    const long offset = step == 0 ? 0 : (step % 2 ? toward : -toward) * long((step + 1) / 2);
+    const int k = int((((nearest + offset) % labels_) + labels_) % labels_);
+    if (allowed(pixel, k)) return k;
+  }
+  return -1;
+}
+
+std::int64_t TiltEnergy::allowed_count() const {
+  // Slots outside the mask hold +infinity.
+  return std::count_if(data_cost_.begin(), data_cost_.end(), [](float v) { return std::isfinite(v); });
+}
+
+NormalMap labelling_normals(const std::vector<int>& labelling, const TiltEnergy& energy, const LocalShape& local,
+                            const LightFrame& light, bool refine) {
+  const Mask& mask = energy.mask();
+  NormalMap normals(energy.rows(), energy.cols());
+  const double step = 2.0 * M_PI / energy.labels();
+  for (Eigen::Index i = 0; i < normals.size(); ++i) {
+    if (!mask.data()[i]) continue;
+    double tilt = energy.label_tilt(labelling[std::size_t(i)]);
+    if (refine && local.tilt_defined.data()[i]) {
+      const double concave = local.tilt.data()[i], convex = concave + M_PI;
+      const double nearer = angle_distance(tilt, concave) < angle_distance(tilt, convex) ? concave : convex;
+      if (angle_distance(tilt, nearer) <= step + 1e-9) tilt = nearer;
+    }
+    normals.xyz.row(i) = light.normal(local.slant.data()[i], tilt).cast<float>();
+  }
+  return normals;
+}
+
+}  // namespace shadecut

@@ -1,0 +1,33 @@
+// Internal: the least-squares depth of a masked pixel grid, solved by conjugate gradients
+// preconditioned with an aggregation multigrid V-cycle.
+#pragma once
+
+#include <shadecut/support/progress.hpp>
+#include <shadecut/support/types.hpp>
+
+#include <vector>
+
+namespace shadecut::detail {
+
+/// The rises along the mask's 4-neighbour edges: right[i] = z(r, c + 1) - z(r, c) and
+/// down[i] = z(r + 1, c) - z(r, c) wanted, i = r * cols + c; read only where both ends are masked.
+struct EdgeRises {
+  std::vector<double> right, down;
+};
+
+/// Minimises the sum over every pair (a, b) of 4-neighbours both in `mask` of (z_b - z_a - rise_ab)^2,
+/// i.e. solves the mask's graph-Laplacian system L z = div(rise). Iterates until the residual is at
+/// most `relative_tolerance` times the right-hand side's (the depth is then exact to about that
+/// relative precision). Each 4-connected component's depth is defined up to a constant, which this
+/// leaves arbitrary. Bit-identical for any number of threads (sums are taken row by row,
+/// then in row order).
+///
+/// @param[in] mask     H x W.
+/// @param[in] rises    H * W each.
+/// @param[in] progress told the fraction of the iterations done (estimated from the residual), as
+///                     stage "integration"; may throw Cancelled.
+/// @return H * W depth, row-major; 0 outside the mask.
+std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises, double relative_tolerance,
+                                       const Progress& progress = {});
+
+}  // namespace shadecut::detail

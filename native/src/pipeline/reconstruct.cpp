@@ -1,0 +1,350 @@
+#include <shadecut/pipeline/reconstruct.hpp>
+
+#include <shadecut/baselines/brooks_horn.hpp>
+#include <shadecut/support/errors.hpp>
+#include <shadecut/graphcut/global_step.hpp>
+#include <shadecut/support/light.hpp>
+#include <shadecut/local/local_shape.hpp>
+#include <shadecut/refine/fit_shading.hpp>
+#include <shadecut/pipeline/relief.hpp>
+#include <shadecut/support/render.hpp>
+#include <shadecut/pipeline/shadow_fill.hpp>
+#include <shadecut/integrate/surface_from_normals.hpp>
+#include <shadecut/baselines/tsai_shah.hpp>
+#include <shadecut/baselines/upwind.hpp>
+#include <shadecut/support/validate.hpp>
+
+#include "support/enum_names.hpp"
+#include "support/parallel.hpp"
+#include "support/stopwatch.hpp"
+
+
+namespace shadecut {
+
+namespace {
+
+// The shares of the call's progress spent on the normals and on them plus the integration (graphcut
+// with the Poisson integrator at a megapixel: about 0.8 s and 0.5 s); fit_shading takes the rest.
+constexpr double kNormalsShare = 0.6;
+constexpr double kIntegratedShare = 0.8;
+// With a pulled labelling to confirm (viscosity_weight), its integration ends here and the paper's
+// labelling is solved up to kConfirmNormalsShare and integrated by kIntegratedShare.
+constexpr double kConfirmShare = 0.65;
+constexpr double kConfirmNormalsShare = 0.75;
+
+// Whether the depth is fitted to the image after integration: graphcut only, where it was tuned
+// (graphcut_two's integrated depth is a worse start: the fit raised its evaluation mean, 22.97 ->
+// 25.12 deg, docs/results.md; the comparison methods stay as published), and not for a tiling surface.
+bool fits_shading(const ReconstructOptions& options) {
+  return options.fit_shading && options.method == Method::GraphCut && !options.seamless;
+}
+
+// fit_shading on result.depth (the integrated depth), over the `fitted` pixels; the normals become
+// the fitted depth's.
+void fit_depth_to_image(const ImageF& image, const Mask& fitted, const LightFrame& frame, const ReconstructOptions& options,
+                        const Progress& progress, Reconstruction& result) {
+  const Stopwatch stopwatch;
+  FitShadingParams params;
+  params.smoothness = options.fit_smoothness;
+  const FitShadingStats stats =
+      fit_shading(result.depth, image, result.mask, fitted, frame.direction, result.albedo, params, progress);
+  result.normals = normals_from_depth(result.depth, result.mask);
+  result.stats.shading_residual_before = stats.residual_before;
+  result.stats.shading_residual_after = stats.residual_after;
+  result.stats.fit_steps = stats.steps;
+  result.stats.seconds["fit_shading"] = stopwatch.seconds();
+}
+
+// The relative intensity at or below which a pixel counts as shadow; < 0 (none) when shadows are not filled.
+double shadow_threshold_used(const ReconstructOptions& options) {
+  return options.fill_shadows ? options.shadow_threshold : -1.0;
+}
+
+// Whether the mask's edge is the object's outline (an occluding contour): never for a relief.
+bool edge_is_outline(const ReconstructOptions& options) {
+  return options.occluding_contour && options.scene == SceneKind::Object;
+}
+
+// `kept` holds the pulled labelling's surface (statistics `stats`), `paper` the paper's labelling's
+// (`paper_stats`): the one whose depth renders closer to the image over the `counted` pixels stays in
+// `kept`, with its own graph-cut statistics; `stats` gets both residuals, the choice and both runs'
+// seconds.
+void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& counted, const LightFrame& frame, double albedo,
+                          Surface paper, ReconstructStats paper_stats, Surface& kept, ReconstructStats& stats) {
+  auto residual = [&](const Surface& surface) {
+    return mean_brightness_residual(surface.depth, image, mask, counted, frame.direction, albedo);
+  };
+  const double paper_residual = residual(paper), pulled_residual = residual(kept);
+  std::map<std::string, double> seconds = stats.seconds;
+  for (const auto& [stage, spent] : paper_stats.seconds) seconds[stage] += spent;
+  if (paper_residual <= pulled_residual) {
+    paper_stats.light_estimated = stats.light_estimated;
+    stats = std::move(paper_stats);
+    kept = std::move(paper);
+  }
+  stats.seconds = std::move(seconds);
+  stats.paper_residual = paper_residual;
+  stats.pulled_residual = pulled_residual;
+  stats.pulled_kept = pulled_residual < paper_residual;
+}
+
+void check_options(const ReconstructOptions& options, const Mask& mask) {
+  if (options.threads < 0 || options.threads > kMaxThreads)
+    throw InvalidArgument("shadecut: threads must be in 0 .. " + std::to_string(kMaxThreads) + " (0 = all cores); got " +
+                          std::to_string(options.threads));
+  if (options.labels < kMinLabels)
+    throw InvalidArgument("shadecut: labels must be at least " + std::to_string(kMinLabels) + " (got " +
+                          std::to_string(options.labels) + ")");
+  if (!(options.viscosity_weight >= 0.0) || !std::isfinite(options.viscosity_weight))
+    throw InvalidArgument("shadecut: viscosity_weight must be finite and >= 0; got " + std::to_string(options.viscosity_weight));
+  if (!(options.fit_smoothness >= 0.0) || !std::isfinite(options.fit_smoothness))
+    throw InvalidArgument("shadecut: fit_smoothness must be finite and >= 0; got " + std::to_string(options.fit_smoothness));
+  if (options.seamless && options.scene != SceneKind::Relief)
+    throw InvalidArgument("shadecut: seamless output is for reliefs that fill the image; set scene to relief");
+  if (options.seamless && !mask.all())
+    throw InvalidArgument("shadecut: seamless output tiles the whole image, but the mask leaves " +
+                          std::to_string(mask.size() - mask.count()) + " pixels out; give no mask");
+}
+
+// The light frame and albedo used: given, or estimated from the image (an object's albedo with its
+// estimated light; otherwise estimate_albedo's, or a relief's median). `brightest` is the largest
+// masked intensity.
+LightFrame choose_lighting(const ImageF& image, const Mask& mask, float brightest, const std::optional<Eigen::Vector3d>& light,
+                           std::optional<double> albedo, const ReconstructOptions& options, const Progress& progress,
+                           Reconstruction& result) {
+  Eigen::Vector3d direction;
+  if (light) {
+    direction = *light;
+  } else {
+    progress.report(0.0, "light");
+    const Stopwatch stopwatch;
+    const LightMethod method = light_method_used(options);
+    // The relief estimator takes its albedo from the relief's own brightest pixels.
+    const std::optional<double> ceiling =
+        albedo || method == LightMethod::Relief ? albedo : estimate_albedo(image, mask, options.albedo_method);
+    const LightEstimate estimate = estimate_light(image, mask, method, ceiling);
+    result.stats.seconds["light"] = stopwatch.seconds();
+    result.stats.light_estimated = true;
+    direction = estimate.light;
+    // The estimators' albedo assumes a sphere's normals; a relief's comes from its median.
+    if (!albedo && options.scene == SceneKind::Object) albedo = estimate.albedo;
+  }
+  const LightFrame frame = LightFrame::from_direction(direction);
+  result.light = frame.direction;
+  if (albedo) result.albedo = *albedo;
+  else if (options.scene == SceneKind::Relief) result.albedo = relief_albedo(image, mask, frame.direction);
+  else result.albedo = estimate_albedo(image, mask, options.albedo_method);
+  check_albedo(result.albedo);
+  if (brightest <= 1e-6f * result.albedo)
+    throw InvalidArgument("shadecut: the image is dark everywhere in the mask compared with the albedo " +
+                          std::to_string(result.albedo) + "; nothing to reconstruct");
+  return frame;
+}
+
+NormalMap brooks_horn_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
+                              const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
+  const MethodDefaults defaults = method_defaults(Method::BrooksHorn);
+  const double smoothness = options.smoothness.value_or(defaults.smoothness);
+  if (!(smoothness > 0.0) || !std::isfinite(smoothness))
+    throw InvalidArgument("shadecut: the smoothness of brooks_horn must be finite and > 0");
+  BrooksHornParams params;
+  // Per pixel the smoothness term reads |grad n|^2 h^2 while the brightness term stays put, so the
+  // weight grows with the object's area to keep the same minimum at every resolution; small objects
+  // are held at the weight where the sweeps still converge.
+  const double per_pixel = 1.0 / (unary_scale(mask) * unary_scale(mask));
+  params.smoothness = std::max(kStableSmoothness, smoothness * per_pixel);
+  params.iterations = options.iterations.value_or(defaults.iterations);
+  params.tolerance = options.tolerance.value_or(defaults.tolerance);
+  params.occluding_contour = edge_is_outline(options);
+  BrooksHornResult solved = brooks_horn(image, mask, frame, albedo, params, progress);
+  stats.iterations = solved.iterations;
+  return std::move(solved.normals);
+}
+
+}  // namespace
+
+GlobalStepParams global_step_params(const ReconstructOptions& options) {
+  const MethodDefaults defaults = method_defaults(options.method);
+  GlobalStepParams params;
+  params.energy.labels = options.labels;
+  params.energy.data_weight = options.data_weight;
+  params.energy.undefined_weight = options.undefined_weight.value_or(defaults.undefined_weight);
+  params.energy.contour_weight = edge_is_outline(options) ? options.contour_weight : 0.0;
+  params.energy.data_term = options.method == Method::GraphCut ? DataTerm::Soft : DataTerm::TwoCandidates;
+  params.energy.threads = detail::default_thread_count();
+  params.min_curvature = options.min_curvature.value_or(defaults.min_curvature);
+  params.max_cycles = options.max_cycles;
+  params.tolerance = options.tolerance.value_or(defaults.tolerance);
+  params.band = options.coarse_to_fine_band;
+  params.band_radius = options.coarse_to_fine_radius;
+  params.refine = options.refine;
+  // Tuned for graphcut only (docs/parameters.md).
+  params.viscosity_weight = options.method == Method::GraphCut ? options.viscosity_weight : 0.0;
+  params.shadow_threshold = shadow_threshold_used(options);
+  params.highlight_threshold = options.highlight_threshold;
+  params.occluding_contour = edge_is_outline(options);
+  params.max_slope = options.max_slope;
+  return params;
+}
+
+namespace {
+
+NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
+                            const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
+  const auto solver = make_maxflow_solver();
+  GlobalStepResult solved = global_step(image, mask, frame, albedo, global_step_params(options), *solver, progress);
+  for (const auto& [stage, seconds] : solved.seconds) stats.seconds[stage] = seconds;
+  stats.allowed_label_fraction = solved.allowed_label_fraction;
+  stats.energy_per_cycle = solved.expansion.energy_per_cycle;
+  stats.cycles = solved.expansion.cycles;
+  stats.iterations = solved.expansion.cycles;
+  stats.moves = solved.expansion.moves;
+  stats.accepted_moves = solved.expansion.accepted_moves;
+  stats.maxflow_seconds = solved.expansion.maxflow_seconds;
+  stats.levels = solved.levels;
+  stats.paper_residual = solved.paper_residual;
+  stats.pulled_residual = solved.pulled_residual;
+  stats.pulled_kept = solved.pulled_kept;
+  return std::move(solved.normals);
+}
+
+// The normals of a method that solves for the depth (tsai_shah, upwind): `solve` is called with the
+// iterations to run and returns its result; its stage is the method's name.
+template <class Solve>
+NormalMap depth_method_normals(Method method, const Mask& mask, const ReconstructOptions& options, const Progress& progress,
+                               ReconstructStats& stats, Solve solve) {
+  const Stopwatch stopwatch;
+  const std::string stage = to_string(method);
+  progress.report(0.0, stage);
+  const auto solved = solve(options.iterations.value_or(method_defaults(method).iterations));
+  stats.seconds[stage] = stopwatch.seconds();
+  stats.iterations = solved.iterations;
+  return normals_from_depth(solved.depth, mask);
+}
+
+// The normals of the chosen method; every stage's seconds go into the stats.
+NormalMap solve_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
+                        const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
+  const Stopwatch stopwatch;
+  switch (options.method) {
+    case Method::BrooksHorn: {
+      progress.report(0.0, "brooks_horn");
+      NormalMap normals = brooks_horn_normals(image, mask, frame, albedo, options, progress, stats);
+      stats.seconds["brooks_horn"] = stopwatch.seconds();
+      return normals;
+    }
+    case Method::TsaiShah:
+      return depth_method_normals(Method::TsaiShah, mask, options, progress, stats, [&](int sweeps) {
+        return tsai_shah(image, mask, frame, albedo, sweeps, progress);
+      });
+    case Method::Upwind:
+      return depth_method_normals(Method::Upwind, mask, options, progress, stats, [&](int rounds) {
+        return upwind(image, mask, frame, albedo, rounds, progress);
+      });
+    case Method::LeeRosenfeld: {
+      progress.report(0.0, "local");
+      const double min_curvature = options.min_curvature.value_or(method_defaults(Method::LeeRosenfeld).min_curvature);
+      const LocalShape local = local_shape(image, mask, frame, albedo, min_curvature);
+      stats.seconds["local"] = stopwatch.seconds();
+      return convex_normals(local, frame, mask);
+    }
+    case Method::GraphCut:
+    case Method::GraphCutTwo:
+      return graph_cut_normals(image, mask, frame, albedo, options, progress, stats);
+  }
+  throw InvalidArgument("shadecut: unknown method");
+}
+
+}  // namespace
+
+const std::vector<std::string>& scene_kind_names() {
+  static const std::vector<std::string> names{"object", "relief"};
+  return names;
+}
+
+SceneKind parse_scene_kind(const std::string& name) { return parse_enum<SceneKind>(scene_kind_names(), name, "scene kind"); }
+
+std::string to_string(SceneKind kind) { return scene_kind_names().at(std::size_t(kind)); }
+
+LightMethod light_method_used(const ReconstructOptions& options) {
+  if (options.light_method) return *options.light_method;
+  return options.scene == SceneKind::Relief ? LightMethod::Relief : LightMethod::ZhengChellappa;
+}
+
+const std::vector<std::string>& method_names() {
+  static const std::vector<std::string> names{"graphcut", "graphcut_two", "lee_rosenfeld", "brooks_horn", "tsai_shah", "upwind"};
+  return names;
+}
+
+Method parse_method(const std::string& name) { return parse_enum<Method>(method_names(), name, "method"); }
+
+std::string to_string(Method method) { return method_names().at(std::size_t(method)); }
+
+MethodDefaults method_defaults(Method method) {
+  switch (method) {
+    case Method::GraphCut: return {1.0, 0.5, 0.0, 0, 0.0};
+    case Method::GraphCutTwo: return {2.0, 0.2, 0.0, 0, 0.0};
+    case Method::LeeRosenfeld: return {2.0, 0.0, 0.0, 0, 0.0};
+    case Method::BrooksHorn: return {0.0, 0.0, 1e-5, 8000, 0.3};
+    case Method::TsaiShah: return {0.0, 0.0, 0.0, 1, 0.0};
+    case Method::Upwind: return {0.0, 0.0, 0.0, 3, 0.0};
+  }
+  throw InvalidArgument("shadecut: unknown method");
+}
+
+Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask_in,
+                           std::optional<double> albedo, const ReconstructOptions& options) {
+  const Stopwatch total;
+  check_image(image);
+  const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);
+  check_mask(mask, image);
+  if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
+  check_options(options, mask);
+  // Cheap, and before the estimates that cost a pass of median filtering over the image.
+  const float brightest = mask.select(image, 0.0f).maxCoeff();
+  if (!(brightest > 0.0f))
+    throw InvalidArgument("shadecut: the image is dark everywhere in the mask (zero); nothing to reconstruct");
+  const Progress progress(options.progress);
+
+  Reconstruction result;
+  result.mask = mask;
+  const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
+  const detail::ThreadCountScope threads(options.threads);
+  const Mask unreliable =
+      unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), options.highlight_threshold);
+  // The normals, then their integration, in [begin, end] of the call.
+  auto surface_of = [&](const ReconstructOptions& solved, double begin, double split, double end, ReconstructStats& stats) {
+    NormalMap normals = solve_normals(image, mask, frame, result.albedo, solved, progress.range(begin, split), stats);
+    progress.report(split, "integration");
+    const Stopwatch integration;
+    Surface surface = surface_from_normals(std::move(normals), mask, unreliable, edge_is_outline(options), options.integrator,
+                                           options.seamless, options.max_slope, progress.range(split, end));
+    stats.seconds["integration"] += integration.seconds();
+    return surface;
+  };
+  Surface surface = surface_of(options, 0.0, kNormalsShare, kConfirmShare, result.stats);
+  if (result.stats.pulled_kept) {
+    // The coarsest level preferred the pulled labelling; its residuals there can be within the
+    // coarse discretization's own error, so the paper's labelling is finished too and the choice
+    // is made again on the returned depths.
+    ReconstructOptions paper_options = options;
+    paper_options.viscosity_weight = 0.0;
+    ReconstructStats paper_stats;
+    Surface paper = surface_of(paper_options, kConfirmShare, kConfirmNormalsShare, kIntegratedShare, paper_stats);
+    keep_closer_to_image(image, mask, mask && !unreliable, frame, result.albedo, std::move(paper), std::move(paper_stats),
+                         surface, result.stats);
+  }
+  result.normals = std::move(surface.normals);
+  result.depth = std::move(surface.depth);
+  result.stats.shadow_pixels = surface.filled_pixels;
+  if (fits_shading(options)) {
+    fit_depth_to_image(image, mask && !unreliable, frame, options, progress.range(kIntegratedShare, 1.0), result);
+  } else {
+    progress.report(1.0, "integration");
+  }
+  if (!options.seamless && options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);
+  result.stats.seconds["total"] = total.seconds();
+  return result;
+}
+
+}  // namespace shadecut

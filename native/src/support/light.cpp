@@ -1,0 +1,34 @@
+#include <shadecut/support/light.hpp>
+
+#include <shadecut/support/errors.hpp>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+namespace shadecut {
+
+LightFrame LightFrame::from_direction(const Eigen::Vector3d& light) {
+  if (!light.allFinite()) throw InvalidArgument("shadecut: the light direction has a NaN or infinite component");
+  // Scaled by its largest component first, so that a very long vector's norm does not overflow.
+  const double largest = light.cwiseAbs().maxCoeff();
+  if (!(largest > 1e-300)) throw InvalidArgument("shadecut: the light direction is the zero vector");
+  LightFrame frame;
+  frame.direction = (light / largest).normalized();
+  // A light at or below the horizon leaves part of every visible hemisphere unlit and the slant
+  // formula undefined; the paper's model needs S_z > 0.
+  if (frame.direction.z() <= 1e-6)
+    throw InvalidArgument("shadecut: the light is at or below the horizon (S_z <= 0); it must point toward the viewer's side");
+  frame.slant = std::acos(std::min(1.0, frame.direction.z()));
+  frame.tilt = std::atan2(frame.direction.y(), frame.direction.x());
+  frame.to_camera = (Eigen::AngleAxisd(frame.tilt, Eigen::Vector3d::UnitZ()) *
+                     Eigen::AngleAxisd(frame.slant, Eigen::Vector3d::UnitY()))
+                        .toRotationMatrix();
+  return frame;
+}
+
+Eigen::Vector3d LightFrame::normal(double s, double t) const {
+  const Eigen::Vector3d in_light_frame(std::sin(s) * std::cos(t), std::sin(s) * std::sin(t), std::cos(s));
+  return to_camera * in_light_frame;
+}
+
+}  // namespace shadecut

@@ -1,0 +1,46 @@
+#include <shadecut/support/validate.hpp>
+
+#include <shadecut/support/errors.hpp>
+
+namespace shadecut {
+
+void check_image(const ImageF& image, const std::string& what) {
+  if (image.rows() < 2 || image.cols() < 2)
+    throw InvalidArgument("shadecut: the " + what + " is " + std::to_string(image.rows()) + " x " +
+                          std::to_string(image.cols()) + " pixels; at least 2 x 2 are needed");
+  if (!image.allFinite()) throw InvalidArgument("shadecut: the " + what + " has NaN or infinite pixels");
+}
+
+void check_mask(const Mask& mask, const ImageF& image) {
+  if (mask.rows() != image.rows() || mask.cols() != image.cols())
+    throw InvalidArgument("shadecut: the mask is " + std::to_string(mask.rows()) + " x " + std::to_string(mask.cols()) +
+                          " but the image is " + std::to_string(image.rows()) + " x " + std::to_string(image.cols()));
+  if (!mask.any()) throw InvalidArgument("shadecut: the mask selects no pixel");
+}
+
+void check_mask_fits(const Mask& mask, const NormalMap& normals) {
+  if (mask.rows() != normals.rows || mask.cols() != normals.cols)
+    throw InvalidArgument("shadecut: the mask is " + std::to_string(mask.rows()) + " x " + std::to_string(mask.cols()) +
+                          " but the normal map is " + std::to_string(normals.rows) + " x " + std::to_string(normals.cols));
+  for (Eigen::Index i = 0; i < normals.size(); ++i)
+    if (mask.data()[i] && !normals.xyz.row(i).allFinite())
+      throw InvalidArgument("shadecut: the normal map has NaN or infinite values inside the mask, at pixel (" +
+                            std::to_string(i / normals.cols) + ", " + std::to_string(i % normals.cols) + ")");
+}
+
+void check_normals(const NormalMap& normals, int rows, int cols) {
+  if (normals.rows != rows || normals.cols != cols || normals.xyz.rows() != normals.size())
+    throw InvalidArgument("shadecut: the normal map is " + std::to_string(normals.rows) + " x " +
+                          std::to_string(normals.cols) + " but " + std::to_string(rows) + " x " + std::to_string(cols) +
+                          " was expected");
+}
+
+void check_albedo(double albedo) {
+  if (!(albedo > 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
+}
+
+void check_iterations(int iterations) {
+  if (iterations < 1) throw InvalidArgument("shadecut: iterations must be at least 1 (got " + std::to_string(iterations) + ")");
+}
+
+}  // namespace shadecut
