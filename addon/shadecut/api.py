@@ -34,6 +34,7 @@ The defaults are held once, in C++ (``native/include/shadecut/pipeline/reconstru
 the enum or its name: ``method="lee_rosenfeld"``. The meaning of each field: docs/python_api.md.
 """
 Reconstruction = _core.Reconstruction
+MethodDefaults = _core.MethodDefaults
 ReconstructStats = _core.ReconstructStats
 Method = _core.Method
 Integrator = _core.Integrator
@@ -179,6 +180,13 @@ def mask_components(mask) -> tuple[np.ndarray, int]:
 def erode_mask(mask, pixels: int) -> np.ndarray:
     """The mask shrunk by ``pixels`` steps of 4-neighbour erosion (the image border erodes too)."""
     return _core.erode_mask(_mask(mask), int(pixels))
+
+
+def method_defaults(method: str | Method) -> MethodDefaults:
+    """The values ``method`` (a name in :data:`METHODS`, or a :class:`Method`) uses for the options
+    left None: ``min_curvature``, ``undefined_weight``, ``tolerance``, ``iterations``, ``smoothness``
+    (0 where the method does not use one). Tuned: docs/parameters.md."""
+    return _core.method_defaults(getattr(method, "name", method))
 
 
 def estimate_light(image, mask=None, method: Optional[str] = None,

@@ -134,13 +134,35 @@ void bind_reconstruct(py::module_& m) {
       "A copy with the given fields set.");
   options.def("light_method_used", &light_method_used,
               "The light estimator reconstruct() uses when given no light: light_method, or by scene when None.");
+  py::class_<MethodDefaults>(m, "MethodDefaults",
+                             "The values a method uses for the options left None (tuned: docs/parameters.md); 0 = unused.")
+      .def_readonly("min_curvature", &MethodDefaults::min_curvature)
+      .def_readonly("undefined_weight", &MethodDefaults::undefined_weight)
+      .def_readonly("tolerance", &MethodDefaults::tolerance)
+      .def_readonly("iterations", &MethodDefaults::iterations)
+      .def_readonly("smoothness", &MethodDefaults::smoothness)
+      .def("__repr__", [](const MethodDefaults& d) {
+        return "MethodDefaults(min_curvature=" + py::repr(py::float_(d.min_curvature)).cast<std::string>() +
+               ", undefined_weight=" + py::repr(py::float_(d.undefined_weight)).cast<std::string>() +
+               ", tolerance=" + py::repr(py::float_(d.tolerance)).cast<std::string>() +
+               ", iterations=" + std::to_string(d.iterations) +
+               ", smoothness=" + py::repr(py::float_(d.smoothness)).cast<std::string>() + ")";
+      });
+  m.def("method_defaults", [](const std::string& method) { return method_defaults(parse_method(method)); }, py::arg("method"),
+        "The values `method` uses for the options left None (min_curvature, undefined_weight, tolerance, "
+        "iterations, smoothness).");
+  // An option left None shows the value its method uses: `undefined_weight=None (graphcut: 0.5)`.
   options.def("__repr__", [names](const py::object& self) {
+    const py::object per_method = py::cast(method_defaults(self.cast<const ReconstructOptions&>().method));
+    const std::string method = self.attr("method").attr("name").cast<std::string>();
     std::string text = "ReconstructOptions(";
     for (std::size_t i = 0; i < names.size(); ++i) {
       const py::object value = self.attr(names[i].c_str());
       const bool is_enum = py::hasattr(value, "name") && py::hasattr(value, "value");
       text += std::string(i ? ", " : "") + names[i] + "=" +
               (is_enum ? "'" + value.attr("name").cast<std::string>() + "'" : py::repr(value).cast<std::string>());
+      if (value.is_none() && py::hasattr(per_method, names[i].c_str()))
+        text += " (" + method + ": " + py::repr(per_method.attr(names[i].c_str())).cast<std::string>() + ")";
     }
     return text + ")";
   });

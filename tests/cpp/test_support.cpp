@@ -1,5 +1,6 @@
 #include "test_support.hpp"
 
+#include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/render.hpp>
 
 #include <algorithm>
@@ -8,6 +9,22 @@
 #include <stdexcept>
 
 namespace shadecut::testing {
+
+TiltEnergyParams paper_energy_params() {
+  TiltEnergyParams params;
+  params.labels = ReconstructOptions().labels;
+  params.data_weight = 1.0;
+  return params;
+}
+
+GlobalStepParams one_level_params() {
+  ReconstructOptions options;
+  options.coarse_to_fine_band = -1;
+  options.coarse_to_fine_radius = -1;
+  options.contour_weight = 0.0;
+  options.viscosity_weight = 0.0;
+  return global_step_params(options);
+}
 
 Scene sphere_scene(int size, double radius_fraction, const Eigen::Vector3d& light, bool bowl) {
   const double radius = radius_fraction * size, centre = 0.5 * (size - 1);

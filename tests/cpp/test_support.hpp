@@ -1,6 +1,8 @@
 // Synthetic scenes with exact ground truth, shared by the C++ tests.
 #pragma once
 
+#include <shadecut/graphcut/global_step.hpp>
+#include <shadecut/graphcut/tilt_energy.hpp>
 #include <shadecut/support/types.hpp>
 
 #include <Eigen/Core>
@@ -17,6 +19,14 @@ struct Scene {
   ImageF depth;      ///< exact depth, pixel units
   Mask mask;
 };
+
+/// The energy the tests build by hand: eq. (15) with lambda 1 over reconstruct()'s default label
+/// count, no undefined pull, outline term or reference (the fields a test changes it sets itself).
+TiltEnergyParams paper_energy_params();
+
+/// global_step on one level (the exact alpha-expansion) with reconstruct()'s defaults for graphcut
+/// otherwise, without the outline term and the viscosity pull.
+GlobalStepParams one_level_params();
 
 /// Sphere of radius radius_fraction * size centred in a size x size image, rendered under `light`
 /// with its analytic normals. `bowl` turns it upside down: the concave inside of the sphere.

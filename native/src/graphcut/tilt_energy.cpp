@@ -65,9 +65,104 @@ int TiltEnergy::nearest_label(double tilt) const {
   return int(((k % labels_) + labels_) % labels_);
 }
 
-TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const Mask& mask,
-                       const TiltEnergyParams& params)
-    : rows_(int(mask.rows())), cols_(int(mask.cols())), labels_(params.labels), mask_(mask) {
+namespace detail {
+
+// R_p(k) before dead-end elimination, for one pixel at a time: +infinity where the normal faces
+// away, or where eq. (10) allows only the candidates.
+class LabelCostModel {
+ public:
+  // What R_p needs of one pixel.
+  struct PixelTerms {
+    double s = 0.0, sin_s = 0.0, nz_base = 0.0, nz_step = 0.0, t = 0.0;
+    bool defined = false;
+    int concave_label = 0, convex_label = 0;
+    Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // zero without a reference
+    Eigen::Vector2d outward = Eigen::Vector2d::Zero();    // zero off the outline
+  };
+
+  LabelCostModel(const TiltEnergy& energy, const LocalShape& local, const LightFrame& light, const Mask& mask,
+                 const TiltEnergyParams& params)
+      : energy_(energy), local_(local), light_(light), mask_(mask), params_(params),
+        referenced_(params.reference && params.reference_weight > 0.0),
+        cos_ls_(std::cos(light.slant)), sin_ls_(std::sin(light.slant)),
+        outline_(read_outline(local, light, mask, params.contour_weight)) {
+    const int k_count = energy.labels();
+    cos_label_.resize(std::size_t(k_count));
+    label_angle_.resize(std::size_t(k_count));
+    for (int k = 0; k < k_count; ++k) {
+      label_angle_[std::size_t(k)] = energy.label_tilt(k);
+      cos_label_[std::size_t(k)] = std::cos(label_angle_[std::size_t(k)]);
+    }
+  }
+
+  PixelTerms pixel_terms(int p) const {
+    PixelTerms terms;
+    const double s = local_.slant.data()[p];
+    terms.s = s;
+    const int component = outline_.silhouette.empty() ? -1 : outline_.components.labels.data()[p];
+    if (component >= 0 && outline_.silhouette[std::size_t(component)])
+      terms.outward = contour_outward(mask_, p / mask_.cols(), p % mask_.cols());
+    terms.sin_s = std::sin(s);
+    // z of Rz(tS) Ry(sS) n'(s, theta) = nz_base - nz_step cos(theta): the rotation about z leaves it unchanged.
+    terms.nz_base = cos_ls_ * std::cos(s);
+    terms.nz_step = sin_ls_ * terms.sin_s;
+    terms.defined = local_.tilt_defined.data()[p];
+    terms.t = local_.tilt.data()[p];
+    terms.concave_label = energy_.nearest_label(terms.t);
+    terms.convex_label = energy_.nearest_label(terms.t + M_PI);
+    if (referenced_) terms.reference = params_.reference->xyz.row(p).transpose().cast<double>();
+    return terms;
+  }
+
+  double label_nz(const PixelTerms& terms, int k) const { return terms.nz_base - terms.nz_step * cos_label_[std::size_t(k)]; }
+
+  float label_cost(const PixelTerms& terms, int k) const {
+    if (label_nz(terms, k) <= kMinFrontFacing) return kProhibited;
+    return float(with_normal_terms(terms, k, data_cost_of(terms, k)));
+  }
+
+ private:
+  // `cost` plus the terms that look at the label's whole normal n, which is computed once for both:
+  // the occluding contour's (TiltEnergyParams::contour_weight, 0 off the outline) and the reference's.
+  double with_normal_terms(const PixelTerms& terms, int k, double cost) const {
+    const bool on_outline = !terms.outward.isZero();
+    if (!on_outline && !referenced_) return cost;
+    const Eigen::Vector3d n = light_.normal(terms.s, label_angle_[std::size_t(k)]);
+    if (on_outline) {
+      const double across = n.head<2>().norm();
+      const double cos_d = across > 1e-9 ? n.head<2>().dot(terms.outward) / across : 0.0;
+      cost += params_.contour_weight * 0.5 * (1.0 - cos_d);
+    }
+    if (referenced_) cost += params_.reference_weight * (n - terms.reference).norm();
+    return cost;
+  }
+
+  double data_cost_of(const PixelTerms& terms, int k) const {
+    const double angle = label_angle_[std::size_t(k)];
+    if (!terms.defined) return params_.undefined_weight * 2.0 * terms.sin_s * std::sin(0.5 * angle_distance(angle, M_PI));
+    if (params_.data_term == DataTerm::Soft) {
+      const double d = std::min(angle_distance(angle, terms.t), angle_distance(angle, terms.t + M_PI));
+      return params_.data_weight * 2.0 * terms.sin_s * std::sin(0.5 * d);
+    }
+    return k == terms.concave_label || k == terms.convex_label ? 0.0 : double(kProhibited);
+  }
+
+  const TiltEnergy& energy_;
+  const LocalShape& local_;
+  const LightFrame& light_;
+  const Mask& mask_;
+  const TiltEnergyParams& params_;
+  const bool referenced_;
+  const double cos_ls_, sin_ls_;
+  const Outline outline_;
+  std::vector<double> cos_label_, label_angle_;
+};
+
+}  // namespace detail
+
+namespace {
+
+void check_params(const TiltEnergyParams& params, int rows, int cols) {
   if (params.labels < 4 || params.labels > kMaxLabels)
     throw InvalidArgument("shadecut: labels must be between 4 and " + std::to_string(kMaxLabels) + " (got " + std::to_string(params.labels) + ")");
   if (!(params.data_weight >= 0.0) || !std::isfinite(params.data_weight))
@@ -79,10 +174,25 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
   if (!(params.reference_weight >= 0.0) || !std::isfinite(params.reference_weight))
     throw InvalidArgument("shadecut: the weight of the reference normals must be finite and >= 0");
   const bool referenced = params.reference && params.reference_weight > 0.0;
-  if (referenced && (params.reference->rows != rows_ || params.reference->cols != cols_))
+  if (referenced && (params.reference->rows != rows || params.reference->cols != cols))
     throw InvalidArgument("shadecut: the reference normals are not the mask's shape");
-  const int n = rows_ * cols_, k_count = labels_;
+}
 
+}  // namespace
+
+TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const Mask& mask,
+                       const TiltEnergyParams& params)
+    : rows_(int(mask.rows())), cols_(int(mask.cols())), labels_(params.labels), mask_(mask) {
+  check_params(params, rows_, cols_);
+  build_pairwise_terms(local);
+  const detail::LabelCostModel model(*this, local, light, mask, params);
+  const int threads = params.threads > 0 ? params.threads : detail::default_thread_count();
+  build_windows(model, params, threads);
+  build_data_costs(model, threads);
+}
+
+void TiltEnergy::build_pairwise_terms(const LocalShape& local) {
+  const int n = rows_ * cols_, k_count = labels_;
   chord_.resize(std::size_t(k_count));
   for (int d = 0; d < k_count; ++d) chord_[std::size_t(d)] = float(2.0 * std::abs(std::sin(M_PI * d / k_count)));
 
@@ -90,150 +200,95 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
   weight_down_.assign(std::size_t(n), 0.0f);
   for (int r = 0; r < rows_; ++r) {
     for (int c = 0; c < cols_; ++c) {
-      if (!mask(r, c)) continue;
+      if (!mask_(r, c)) continue;
       const int p = r * cols_ + c;
-      if (c + 1 < cols_ && mask(r, c + 1))
+      if (c + 1 < cols_ && mask_(r, c + 1))
         weight_right_[std::size_t(p)] = std::sin(std::min(local.slant(r, c), local.slant(r, c + 1)));
-      if (r + 1 < rows_ && mask(r + 1, c))
+      if (r + 1 < rows_ && mask_(r + 1, c))
         weight_down_[std::size_t(p)] = std::sin(std::min(local.slant(r, c), local.slant(r + 1, c)));
     }
   }
+}
 
-  std::vector<double> cos_label(static_cast<std::size_t>(k_count)), label_angle(static_cast<std::size_t>(k_count));
-  for (int k = 0; k < k_count; ++k) {
-    label_angle[std::size_t(k)] = label_tilt(k);
-    cos_label[std::size_t(k)] = std::cos(label_angle[std::size_t(k)]);
-  }
-  const double cos_ls = std::cos(light.slant), sin_ls = std::sin(light.slant);
-
-  // R_p(k) before dead-end elimination: +infinity where the normal faces away, or where eq. (10)
-  // allows only the candidates.
-  struct PixelTerms {
-    double s = 0.0, sin_s = 0.0, nz_base = 0.0, nz_step = 0.0, t = 0.0;
-    bool defined = false;
-    int concave_label = 0, convex_label = 0;
-    Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // zero without a reference
-    Eigen::Vector2d outward = Eigen::Vector2d::Zero();  // zero off the outline
-  };
-  const Outline outline = read_outline(local, light, mask, params.contour_weight);
-  auto pixel_terms = [&](int p) {
-    PixelTerms terms;
-    const double s = local.slant.data()[p];
-    terms.s = s;
-    const int component = outline.silhouette.empty() ? -1 : outline.components.labels.data()[p];
-    if (component >= 0 && outline.silhouette[std::size_t(component)])
-      terms.outward = detail::contour_outward(mask, p / cols_, p % cols_);
-    terms.sin_s = std::sin(s);
-    // z of Rz(tS) Ry(sS) n'(s, theta) = nz_base - nz_step cos(theta): the rotation about z leaves it unchanged.
-    terms.nz_base = cos_ls * std::cos(s);
-    terms.nz_step = sin_ls * terms.sin_s;
-    terms.defined = local.tilt_defined.data()[p];
-    terms.t = local.tilt.data()[p];
-    terms.concave_label = nearest_label(terms.t);
-    terms.convex_label = nearest_label(terms.t + M_PI);
-    if (referenced) terms.reference = params.reference->xyz.row(p).transpose().cast<double>();
-    return terms;
-  };
-  auto label_nz = [&](const PixelTerms& terms, int k) { return terms.nz_base - terms.nz_step * cos_label[std::size_t(k)]; };
-  // `cost` plus the terms that look at the label's whole normal n, which is computed once for both:
-  // the occluding contour's (TiltEnergyParams::contour_weight, 0 off the outline) and the reference's.
-  auto with_normal_terms = [&](const PixelTerms& terms, int k, double cost) {
-    const bool on_outline = !terms.outward.isZero();
-    if (!on_outline && !referenced) return cost;
-    const Eigen::Vector3d n = light.normal(terms.s, label_angle[std::size_t(k)]);
-    if (on_outline) {
-      const double across = n.head<2>().norm();
-      const double cos_d = across > 1e-9 ? n.head<2>().dot(terms.outward) / across : 0.0;
-      cost += params.contour_weight * 0.5 * (1.0 - cos_d);
-    }
-    if (referenced) cost += params.reference_weight * (n - terms.reference).norm();
-    return cost;
-  };
-  auto data_cost_of = [&](const PixelTerms& terms, int k) -> double {
-    const double angle = label_angle[std::size_t(k)];
-    if (!terms.defined) return params.undefined_weight * 2.0 * terms.sin_s * std::sin(0.5 * angle_distance(angle, M_PI));
-    if (params.data_term == DataTerm::Soft) {
-      const double d = std::min(angle_distance(angle, terms.t), angle_distance(angle, terms.t + M_PI));
-      return params.data_weight * 2.0 * terms.sin_s * std::sin(0.5 * d);
-    }
-    return k == terms.concave_label || k == terms.convex_label ? 0.0 : double(kProhibited);
-  };
-  auto label_cost = [&](const PixelTerms& terms, int k) {
-    if (label_nz(terms, k) <= kMinFrontFacing) return kProhibited;
-    return float(with_normal_terms(terms, k, data_cost_of(terms, k)));
-  };
-
-  // The windows: a pixel with a band centre keeps the band (or only its centre, when frozen), unless
-  // no label in it is allowed; then it tries the band, and then, like every other masked pixel, keeps
-  // all labels.
+// The windows: a pixel with a band centre keeps the band (or only its centre, when frozen), unless
+// no label in it is allowed; then it tries the band, and then, like every other masked pixel, keeps
+// all labels.
+void TiltEnergy::build_windows(const detail::LabelCostModel& model, const TiltEnergyParams& params, int threads) {
+  const int n = rows_ * cols_, k_count = labels_;
   const bool banded = params.band >= 0 && params.band_centre;
   planes_ = !banded || (2 * params.band + 1 >= k_count && !params.band_frozen);
-  const int threads = params.threads > 0 ? params.threads : detail::default_thread_count();
-  if (!planes_) {
-    window_first_.assign(std::size_t(n), 0);
-    window_begin_.assign(std::size_t(n) + 1, 0);
-    detail::parallel_for(n, 256, threads, [&](int p) {
-      if (!mask_.data()[p]) return;
-      int width = k_count;
-      const int centre = (*params.band_centre)[std::size_t(p)];
-      if (centre >= 0) {
-        const PixelTerms terms = pixel_terms(p);
-        const bool frozen = params.band_frozen && (*params.band_frozen)[std::size_t(p)];
-        for (int half = frozen ? 0 : params.band; half <= params.band && width == k_count; half += std::max(1, params.band)) {
-          const int first = (centre - half + k_count) % k_count;
-          const int band_width = std::min(2 * half + 1, k_count);
-          for (int j = 0; j < band_width && width == k_count; ++j)
-            if (std::isfinite(label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
-        }
+  if (planes_) return;
+  window_first_.assign(std::size_t(n), 0);
+  window_begin_.assign(std::size_t(n) + 1, 0);
+  detail::parallel_for(n, 256, threads, [&](int p) {
+    if (!mask_.data()[p]) return;
+    int width = k_count;
+    const int centre = (*params.band_centre)[std::size_t(p)];
+    if (centre >= 0) {
+      const detail::LabelCostModel::PixelTerms terms = model.pixel_terms(p);
+      const bool frozen = params.band_frozen && (*params.band_frozen)[std::size_t(p)];
+      for (int half = frozen ? 0 : params.band; half <= params.band && width == k_count; half += std::max(1, params.band)) {
+        const int first = (centre - half + k_count) % k_count;
+        const int band_width = std::min(2 * half + 1, k_count);
+        for (int j = 0; j < band_width && width == k_count; ++j)
+          if (std::isfinite(model.label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
       }
-      window_begin_[std::size_t(p) + 1] = width;
-    });
-    for (int p = 0; p < n; ++p) window_begin_[std::size_t(p) + 1] += window_begin_[std::size_t(p)];
-  }
+    }
+    window_begin_[std::size_t(p) + 1] = width;
+  });
+  for (int p = 0; p < n; ++p) window_begin_[std::size_t(p) + 1] += window_begin_[std::size_t(p)];
+}
 
+void TiltEnergy::build_data_costs(const detail::LabelCostModel& model, int threads) {
+  const int n = rows_ * cols_, k_count = labels_;
   convex_tilt_.assign(std::size_t(n), std::numeric_limits<float>::quiet_NaN());
   data_cost_.assign(planes_ ? std::size_t(n) * k_count : std::size_t(window_begin_.back()), kProhibited);
   detail::parallel_for(n, 256, threads, [&](int p) {
     if (!mask_.data()[p]) return;
-    const PixelTerms terms = pixel_terms(p);
+    const detail::LabelCostModel::PixelTerms terms = model.pixel_terms(p);
     if (terms.defined) convex_tilt_[std::size_t(p)] = float(terms.t + M_PI);
     const int first = planes_ ? 0 : window_first_[std::size_t(p)];
-    const int width = planes_ ? k_count : int(window_begin_[std::size_t(p) + 1] - window_begin_[std::size_t(p)]);
+    const int width = window_width(p);
     std::array<float, kMaxLabels> cost_buffer;
     float* cost = cost_buffer.data();
     auto label_at = [&](int j) { return (first + j) % k_count; };
     int most_frontal = 0;
     for (int j = 0; j < width; ++j) {
-      cost[j] = label_cost(terms, label_at(j));
-      if (label_nz(terms, label_at(j)) > label_nz(terms, label_at(most_frontal))) most_frontal = j;
+      cost[j] = model.label_cost(terms, label_at(j));
+      if (model.label_nz(terms, label_at(j)) > model.label_nz(terms, label_at(most_frontal))) most_frontal = j;
     }
     // Eq. (10) can leave no label when both candidates face away after discretization.
     if (std::none_of(cost, cost + width, [](float v) { return std::isfinite(v); })) cost[most_frontal] = 0.0f;
-
-    // Dead-end elimination against the cheapest label and the cheapest one of the other convexity.
-    int best = -1;
-    for (int j = 0; j < width; ++j)
-      if (std::isfinite(cost[j]) && (best < 0 || cost[j] < cost[best])) best = j;
-    int rival = -1;
-    for (int j = 0; j < width; ++j)
-      if (std::isfinite(cost[j]) && label_distance(label_at(j), label_at(best)) > float(M_SQRT2) &&
-          (rival < 0 || cost[j] < cost[rival]))
-        rival = j;
-    const int r = p / cols_, c = p % cols_;
-    const float neighbour_weight = weight_right_[std::size_t(p)] + weight_down_[std::size_t(p)] +
-                                   (c > 0 ? weight_right_[std::size_t(p - 1)] : 0.0f) +
-                                   (r > 0 ? weight_down_[std::size_t(p - cols_)] : 0.0f);
-    for (int j = 0; j < width; ++j) {
-      if (!std::isfinite(cost[j]) || j == best || j == rival) continue;
-      for (int b : {best, rival}) {
-        if (b >= 0 && cost[j] - cost[b] > neighbour_weight * label_distance(label_at(j), label_at(b)) + kDominanceSlack) {
-          cost[j] = kProhibited;
-          break;
-        }
-      }
-    }
+    eliminate_dead_ends(p, first, width, cost);
     for (int j = 0; j < width; ++j) data_cost_[std::size_t(slot(p, label_at(j)))] = cost[j];
   });
+}
+
+// Dead-end elimination at pixel p (its window's costs, `width` labels from `first`) against the
+// cheapest label and the cheapest one of the other convexity.
+void TiltEnergy::eliminate_dead_ends(int p, int first, int width, float* cost) const {
+  auto label_at = [&](int j) { return (first + j) % labels_; };
+  int best = -1;
+  for (int j = 0; j < width; ++j)
+    if (std::isfinite(cost[j]) && (best < 0 || cost[j] < cost[best])) best = j;
+  int rival = -1;
+  for (int j = 0; j < width; ++j)
+    if (std::isfinite(cost[j]) && label_distance(label_at(j), label_at(best)) > float(M_SQRT2) &&
+        (rival < 0 || cost[j] < cost[rival]))
+      rival = j;
+  const int r = p / cols_, c = p % cols_;
+  const float neighbour_weight = weight_right_[std::size_t(p)] + weight_down_[std::size_t(p)] +
+                                 (c > 0 ? weight_right_[std::size_t(p - 1)] : 0.0f) +
+                                 (r > 0 ? weight_down_[std::size_t(p - cols_)] : 0.0f);
+  for (int j = 0; j < width; ++j) {
+    if (!std::isfinite(cost[j]) || j == best || j == rival) continue;
+    for (int b : {best, rival}) {
+      if (b >= 0 && cost[j] - cost[b] > neighbour_weight * label_distance(label_at(j), label_at(b)) + kDominanceSlack) {
+        cost[j] = kProhibited;
+        break;
+      }
+    }
+  }
 }
 
 double TiltEnergy::energy(const std::vector<int>& labelling) const {

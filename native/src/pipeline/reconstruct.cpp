@@ -44,10 +44,8 @@ bool fits_shading(const ReconstructOptions& options) {
 void fit_depth_to_image(const ImageF& image, const Mask& fitted, const LightFrame& frame, const ReconstructOptions& options,
                         const Progress& progress, Reconstruction& result) {
   const Stopwatch stopwatch;
-  FitShadingParams params;
-  params.smoothness = options.fit_smoothness;
-  const FitShadingStats stats =
-      fit_shading(result.depth, image, result.mask, fitted, frame.direction, result.albedo, params, progress);
+  const FitShadingStats stats = fit_shading(result.depth, image, result.mask, fitted, frame.direction, result.albedo,
+                                            fit_shading_params(options), progress);
   result.normals = normals_from_depth(result.depth, result.mask);
   result.stats.shading_residual_before = stats.residual_before;
   result.stats.shading_residual_after = stats.residual_after;
@@ -187,6 +185,12 @@ GlobalStepParams global_step_params(const ReconstructOptions& options) {
   return params;
 }
 
+FitShadingParams fit_shading_params(const ReconstructOptions& options) {
+  FitShadingParams params;
+  params.smoothness = options.fit_smoothness;
+  return params;
+}
+
 namespace {
 
 NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFrame& frame, double albedo,
@@ -281,13 +285,30 @@ Method parse_method(const std::string& name) { return parse_enum<Method>(method_
 std::string to_string(Method method) { return method_names().at(std::size_t(method)); }
 
 MethodDefaults method_defaults(Method method) {
+  MethodDefaults defaults;
   switch (method) {
-    case Method::GraphCut: return {1.0, 0.5, 0.0, 0, 0.0};
-    case Method::GraphCutTwo: return {2.0, 0.2, 0.0, 0, 0.0};
-    case Method::LeeRosenfeld: return {2.0, 0.0, 0.0, 0, 0.0};
-    case Method::BrooksHorn: return {0.0, 0.0, 1e-5, 8000, 0.3};
-    case Method::TsaiShah: return {0.0, 0.0, 0.0, 1, 0.0};
-    case Method::Upwind: return {0.0, 0.0, 0.0, 3, 0.0};
+    case Method::GraphCut:
+      defaults.min_curvature = 1.0;
+      defaults.undefined_weight = 0.5;
+      return defaults;
+    case Method::GraphCutTwo:
+      defaults.min_curvature = 2.0;
+      defaults.undefined_weight = 0.2;
+      return defaults;
+    case Method::LeeRosenfeld:
+      defaults.min_curvature = 2.0;
+      return defaults;
+    case Method::BrooksHorn:
+      defaults.tolerance = 1e-5;
+      defaults.iterations = 8000;
+      defaults.smoothness = 0.3;
+      return defaults;
+    case Method::TsaiShah:
+      defaults.iterations = 1;
+      return defaults;
+    case Method::Upwind:
+      defaults.iterations = 3;
+      return defaults;
   }
   throw InvalidArgument("shadecut: unknown method");
 }

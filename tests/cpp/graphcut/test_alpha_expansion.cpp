@@ -28,7 +28,7 @@ Problem make_problem(const testing::Scene& scene, const Eigen::Vector3d& light, 
                      double undefined_weight = 0.0) {
   const LightFrame frame = LightFrame::from_direction(light);
   LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, 1e-3);
-  TiltEnergyParams params;
+  TiltEnergyParams params = testing::paper_energy_params();
   params.data_term = term;
   params.undefined_weight = undefined_weight;
   TiltEnergy energy(local, frame, scene.mask, params);
@@ -120,10 +120,10 @@ struct ContourEnergies {
   ContourEnergies(const testing::Scene& scene, const Eigen::Vector3d& light)
       : frame(LightFrame::from_direction(light)),
         local(local_shape(scene.image, scene.mask, frame, 1.0, 1e-3)),
-        without(local, frame, scene.mask, TiltEnergyParams{}),
+        without(local, frame, scene.mask, testing::paper_energy_params()),
         with(local, frame, scene.mask, with_contour()) {}
   static TiltEnergyParams with_contour() {
-    TiltEnergyParams params;
+    TiltEnergyParams params = testing::paper_energy_params();
     params.contour_weight = 2.0;
     return params;
   }
@@ -139,7 +139,7 @@ TEST(TiltEnergy, TheOutlineFavoursNormalsPointingOutOfTheSilhouette) {
   const LightFrame& frame = energies.frame;
   const LocalShape& local = energies.local;
   const TiltEnergy &without = energies.without, &with = energies.with;
-  TiltEnergyParams params;
+  TiltEnergyParams params = testing::paper_energy_params();
   const double centre = 0.5 * (48 - 1);
   int outline = 0, compared = 0;
   for (int r = 1; r < 47; ++r) {
@@ -185,7 +185,7 @@ TEST(TiltEnergy, AReferencePullsEachLabelByItsChordToTheReferenceNormal) {
   const testing::Scene scene = testing::sphere_scene(32, 0.4, light);
   const LightFrame frame = LightFrame::from_direction(light);
   const LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, 1e-3);
-  TiltEnergyParams params;
+  TiltEnergyParams params = testing::paper_energy_params();
   const TiltEnergy without(local, frame, scene.mask, params);
   params.reference = &scene.normals;
   params.reference_weight = 0.5;
@@ -214,7 +214,7 @@ TEST(TiltEnergy, RejectsTooFewLabels) {
   const testing::Scene scene = testing::sphere_scene(16, 0.45, {1, 0, 1});
   const LightFrame frame = LightFrame::from_direction({1, 0, 1});
   const LocalShape local = local_shape(scene.image, scene.mask, frame, 1.0, 1e-3);
-  TiltEnergyParams params;
+  TiltEnergyParams params = testing::paper_energy_params();
   params.labels = 3;
   EXPECT_THROW(TiltEnergy(local, frame, scene.mask, params), InvalidArgument);
 }

@@ -36,7 +36,7 @@ struct BandScene {
 TEST(GlobalStep, BandKeepsOnlyLabelsNearTheCentreUnlessNoneIsAllowed) {
   const BandScene band;
   const testing::Scene& scene = band.scene;
-  TiltEnergyParams params;
+  TiltEnergyParams params = testing::paper_energy_params();
   const TiltEnergy full = band.energy(params);
   const int n = int(scene.mask.size()), labels = params.labels;
   std::vector<int> centre(std::size_t(n), -1);
@@ -69,7 +69,7 @@ TEST(GlobalStep, BandKeepsOnlyLabelsNearTheCentreUnlessNoneIsAllowed) {
 TEST(GlobalStep, FrozenPixelsKeepOnlyTheirCentreWhereItIsAllowed) {
   const BandScene band;
   const testing::Scene& scene = band.scene;
-  TiltEnergyParams params;
+  TiltEnergyParams params = testing::paper_energy_params();
   const TiltEnergy full = band.energy(params);
   const int n = int(scene.mask.size()), labels = params.labels;
   std::vector<int> centre(std::size_t(n), 0);
@@ -103,7 +103,7 @@ TEST(GlobalStep, EveryMaxFlowSolverGivesTheSameQuality) {
   const Eigen::Vector3d light(1, 0, 1);
   const testing::Scene scene = testing::sphere_scene(64, 0.45, light);
   const LightFrame frame = LightFrame::from_direction(light);
-  GlobalStepParams params;
+  GlobalStepParams params = testing::one_level_params();
   params.energy.data_weight = 0.2 * unary_scale(scene.mask);
   params.energy.undefined_weight = 0.5 * unary_scale(scene.mask);
   std::vector<double> errors;
@@ -119,7 +119,7 @@ TEST(GlobalStep, CoarseToFineReachesNearlyTheExactEnergyAndAccuracy) {
   const Eigen::Vector3d light(1.5, 0.866, 1);
   const testing::Scene scene = testing::sphere_scene(256, 0.45, light);
   const LightFrame frame = LightFrame::from_direction(light);
-  GlobalStepParams params;
+  GlobalStepParams params = testing::one_level_params();
   params.energy.data_weight = 0.2;
   params.energy.undefined_weight = 0.5;
   const auto solver = make_maxflow_solver();
@@ -161,7 +161,7 @@ TEST(GlobalStep, OnTheTestBumpsTheTruthCostsMoreThanTheLabellingFound) {
   const LightFrame frame = LightFrame::from_direction(light);
   // graphcut's defaults, on one level: the exact alpha-expansion.
   const MethodDefaults defaults = method_defaults(Method::GraphCut);
-  GlobalStepParams params;
+  GlobalStepParams params = testing::one_level_params();
   params.energy.data_weight = ReconstructOptions().data_weight;
   params.energy.undefined_weight = defaults.undefined_weight;
   params.min_curvature = defaults.min_curvature;

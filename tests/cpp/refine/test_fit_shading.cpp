@@ -41,7 +41,7 @@ ImageF dented(const ExactScene& exact) {
 TEST(FitShading, LeavesADepthThatExplainsTheImage) {
   const ExactScene exact = exact_sphere();
   ImageF depth = exact.scene.depth;
-  const FitShadingStats stats = fit_shading(depth, exact.image, exact.scene.mask, exact.scene.mask, kLight, 0.8, {});
+  const FitShadingStats stats = fit_shading(depth, exact.image, exact.scene.mask, exact.scene.mask, kLight, 0.8, fit_shading_params(ReconstructOptions{}));
   EXPECT_LT(stats.residual_before, 1e-8);
   EXPECT_LE(stats.residual_after, stats.residual_before);
   EXPECT_LT((depth - exact.scene.depth).abs().maxCoeff(), 1e-3f);
@@ -66,7 +66,7 @@ DentFit fit_dented(const FitShadingParams& params) {
 }
 
 TEST(FitShading, AWrongDepthComesBackTowardTheTruth) {
-  const DentFit fit = fit_dented({});
+  const DentFit fit = fit_dented(fit_shading_params(ReconstructOptions{}));
   SCOPED_TRACE(::testing::Message() << "residual " << fit.stats.residual_before << " -> " << fit.stats.residual_after
                                     << ", error " << fit.error_before << " -> " << fit.error_after << " deg");
   EXPECT_LT(fit.stats.residual_after, 0.1 * fit.stats.residual_before);
@@ -78,7 +78,7 @@ TEST(FitShading, AWrongDepthComesBackTowardTheTruth) {
 // deg). The mechanism is checked at 0.3, the smoothness of the previous tuning; the training surfaces
 // at 512 px, fitted on blocks of 2 x 2, keep the tuned value's gain (docs/parameters.md).
 TEST(FitShading, ALargeObjectIsFittedOnBlocksAndStillComesBackTowardTheTruth) {
-  FitShadingParams blocks;
+  FitShadingParams blocks = fit_shading_params(ReconstructOptions{});
   blocks.smoothness = 0.3;
   blocks.max_object_size = 32.0;  // the sphere is about 76 pixels across: blocks of 3 x 3
   const DentFit fit = fit_dented(blocks);
@@ -121,7 +121,7 @@ TEST(FitShading, AnIsolatedPixelLeavesTheSolveWellPosed) {
   exact.image(2, 2) = 0.5f;
   ImageF depth = dented(exact);
   depth(2, 2) = 1.0f;
-  const FitShadingStats stats = fit_shading(depth, exact.image, mask, mask, kLight, 0.8, {});
+  const FitShadingStats stats = fit_shading(depth, exact.image, mask, mask, kLight, 0.8, fit_shading_params(ReconstructOptions{}));
   EXPECT_GT(stats.steps, 0);
   EXPECT_LE(stats.residual_after, stats.residual_before);
   EXPECT_TRUE(depth.allFinite());
@@ -136,10 +136,10 @@ TEST(FitShading, RejectsBadInput) {
   EXPECT_THROW(fit_shading(depth, exact.image, mask, mask, Eigen::Vector3d(1, 0, 0), 0.8, {}), InvalidArgument);
   ImageF small = ImageF::Zero(8, 8);
   EXPECT_THROW(fit_shading(small, exact.image, mask, mask, kLight, 0.8, {}), InvalidArgument);
-  FitShadingParams negative;
+  FitShadingParams negative = fit_shading_params(ReconstructOptions{});
   negative.smoothness = -1.0;
   EXPECT_THROW(fit_shading(depth, exact.image, mask, mask, kLight, 0.8, negative), InvalidArgument);
-  FitShadingParams tiny;
+  FitShadingParams tiny = fit_shading_params(ReconstructOptions{});
   tiny.max_object_size = 2.0;
   EXPECT_THROW(fit_shading(depth, exact.image, mask, mask, kLight, 0.8, tiny), InvalidArgument);
 

@@ -16,37 +16,39 @@
 
 namespace shadecut {
 
+/// Built from ReconstructOptions by global_step_params (reconstruct.hpp), which holds the defaults:
+/// the fields that mirror an option have none here; the two no option sets keep theirs.
 struct GlobalStepParams {
   /// The energy. data_weight and undefined_weight are those of an object of kReferenceObjectSize
   /// pixels (reconstruct.hpp); each level scales them by its own unary_scale.
   TiltEnergyParams energy;
-  double min_curvature = 1.0;  ///< local_shape's threshold of the undefined tilt
-  int max_cycles = 20;         ///< alpha_expansion's
-  double tolerance = 0.0;      ///< alpha_expansion's
+  double min_curvature{};      ///< local_shape's threshold of the undefined tilt
+  int max_cycles{};            ///< alpha_expansion's
+  double tolerance{};          ///< alpha_expansion's
   /// Coarse to fine: while the object is at least twice `coarsest_object_size` pixels across
   /// (object_size), the problem is first solved at half resolution; a pixel then only keeps the labels
   /// within `band` label steps of its coarse label. < 0: one level, every label (the exact
   /// alpha-expansion of the full-resolution energy).
-  int band = -1;
+  int band{};
   /// Coarse to fine, banded (Lombaert et al. 2005): at a finer level only pixels within this many
   /// pixels of a jump of the upsampled coarse labelling (neighbours more than one label step apart,
   /// or without a coarse label) keep the band; the others keep their coarse label. < 0: the band
   /// everywhere.
-  int band_radius = -1;
+  int band_radius{};
   double coarsest_object_size = 48.0;
-  bool refine = true;  ///< labelling_normals' refine
+  bool refine{};  ///< labelling_normals' refine
   /// > 0: the coarsest level labels twice, with the paper's energy and with the energy pulled toward
   /// the normals of the level's viscosity solution (upwind.hpp; TiltEnergyParams::reference_weight =
   /// this for an object of kReferenceObjectSize pixels, scaled like data_weight); it integrates both
   /// labellings (Poisson, after filling the unreliable pixels) and keeps the one whose depth renders
   /// closer to the level's image (brightness_residual over its reliable pixels). The finer levels
   /// refine the one kept with the paper's energy. 0 = the paper's energy alone.
-  double viscosity_weight = 0.0;
+  double viscosity_weight{};
   int viscosity_rounds = 100;        ///< upwind's iterations
-  double shadow_threshold = 1e-3;    ///< unreliable_pixels' thresholds for that choice (< 0: no shadows)
-  double highlight_threshold = 0.0;
-  bool occluding_contour = true;     ///< fill_normals' outline rule for that choice
-  double max_slope = 10.0;           ///< the integrator's gradient clamp for that choice
+  double shadow_threshold{};         ///< unreliable_pixels' thresholds for that choice (< 0: no shadows)
+  double highlight_threshold{};
+  bool occluding_contour{};          ///< fill_normals' outline rule for that choice
+  double max_slope{};                ///< the integrator's gradient clamp for that choice
 };
 
 struct GlobalStepResult {

@@ -22,23 +22,29 @@ enum class DataTerm {
   TwoCandidates,
 };
 
+namespace detail {
+class LabelCostModel;
+}
+
 /// The largest number of tilt labels; one degree per label is finer than any image supports.
 constexpr int kMaxLabels = 360;
 
+/// The tuned values come from ReconstructOptions (global_step_params, reconstruct.hpp): the weights
+/// and the label count hold none of their own here.
 struct TiltEnergyParams {
-  int labels = 36;             ///< K; label k is the tilt 2 pi k / K in the light frame. K >= 4.
-  double data_weight = 1.0;    ///< lambda of the soft data term (unused by TwoCandidates)
+  int labels{};                ///< K; label k is the tilt 2 pi k / K in the light frame. K >= 4.
+  double data_weight{};        ///< lambda of the soft data term (unused by TwoCandidates)
   /// Where the tilt is undefined R_p is nearly flat, so the neighbours decide; a pull of this weight
   /// toward tilt pi (the normal turned from the light toward the viewer, the local method's own choice
   /// there) settles what the neighbours leave open: R_p(theta) = w 2 sin(s_p) sin(|theta - pi| / 2).
-  double undefined_weight = 0.0;
+  double undefined_weight{};
   /// On the mask's edge, where it is the object's outline (an occluding contour: the surface turns
   /// away there, its normal pointing outward), label theta costs contour_weight (1 - cos d) / 2 more,
   /// d the angle between the outward direction of the edge and the image-plane direction of the
   /// label's normal: an object seen whole is convex at its outline. Only on the mask's parts whose
   /// edge reads as a silhouette: brighter where it faces the light (a bowl's rim, brighter where it
   /// faces away, gets no term). 0 = no such term (reliefs).
-  double contour_weight = 0.0;
+  double contour_weight{};
   /// A pull toward given normals (one per pixel of the mask's grid, row-major; the viscosity
   /// solution's, GlobalStepParams::viscosity_weight): label theta costs reference_weight
   /// |n(s_p, theta) - m_p| more, a chord like the soft data term's. Null or 0 = none.
@@ -127,6 +133,12 @@ class TiltEnergy {
   std::int64_t allowed_count() const;
 
  private:
+  // The constructor's steps: w_pq and the chords, the band's windows, R_p after dead-end elimination.
+  void build_pairwise_terms(const LocalShape& local);
+  void build_windows(const detail::LabelCostModel& model, const TiltEnergyParams& params, int threads);
+  void build_data_costs(const detail::LabelCostModel& model, int threads);
+  void eliminate_dead_ends(int pixel, int first, int width, float* cost) const;
+
   int rows_ = 0, cols_ = 0, labels_ = 0;
   Mask mask_;
   // Without a band, label-major planes: an expansion move reads one of them in order (its reads

@@ -5,6 +5,7 @@
 #include <shadecut/estimate/estimate_light.hpp>
 #include <shadecut/graphcut/global_step.hpp>
 #include <shadecut/integrate/integrate.hpp>
+#include <shadecut/refine/fit_shading.hpp>
 #include <shadecut/support/progress.hpp>
 #include <shadecut/support/types.hpp>
 
@@ -44,14 +45,14 @@ const std::vector<std::string>& method_names();
 Method parse_method(const std::string& name);
 std::string to_string(Method method);
 
-/// Per-method defaults chosen by scripts/tune_parameters.py on training surfaces (docs/parameters.md).
-/// A field a method does not use is 0.
+/// Per-method defaults chosen by scripts/tune_parameters.py on training surfaces (docs/parameters.md):
+/// what reconstruct() uses for an option left unset. A field a method does not use is 0.
 struct MethodDefaults {
-  double min_curvature;
-  double undefined_weight;
-  double tolerance;   ///< graphcut, graphcut_two: share of the energy; brooks_horn: mean |dn| per sweep
-  int iterations;     ///< brooks_horn, tsai_shah; upwind: most rounds of sweeps
-  double smoothness;  ///< brooks_horn
+  double min_curvature = 0.0;     ///< graph-cut methods, lee_rosenfeld (ReconstructOptions::min_curvature)
+  double undefined_weight = 0.0;  ///< graph-cut methods (ReconstructOptions::undefined_weight)
+  double tolerance = 0.0;         ///< graph-cut methods: share of the energy; brooks_horn: mean |dn| per sweep
+  int iterations = 0;             ///< brooks_horn, tsai_shah sweeps; upwind: most rounds of sweeps
+  double smoothness = 0.0;        ///< brooks_horn (ReconstructOptions::smoothness)
 };
 MethodDefaults method_defaults(Method method);
 
@@ -173,6 +174,9 @@ LightMethod light_method_used(const ReconstructOptions& options);
 /// options' values, method_defaults where they are unset, and the thread count of the reconstruct()
 /// in progress (every core outside one).
 GlobalStepParams global_step_params(const ReconstructOptions& options);
+
+/// What reconstruct() hands fit_shading when options.fit_shading is on: options.fit_smoothness.
+FitShadingParams fit_shading_params(const ReconstructOptions& options);
 
 /// Reconstructs normals and depth from one Lambertian image.
 ///

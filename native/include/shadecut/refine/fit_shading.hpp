@@ -13,7 +13,8 @@ struct FitShadingParams {
   /// mu of the cost below, for an object of kReferenceObjectSize pixels (local_shape.hpp); the
   /// per-pixel weight is mu * object_size / kReferenceObjectSize, which gives the same surface the
   /// same minimum at every resolution (depth second differences shrink as 1 / resolution).
-  double smoothness = 0.05;
+  /// No default here: ReconstructOptions::fit_smoothness holds the tuned one.
+  double smoothness{};
   int max_steps = 15;              ///< Levenberg-Marquardt steps at most
   /// A larger object (object_size, pixels) is fitted on blocks of ceil(its size / this) pixels: the
   /// correction, bilinearly interpolated back, then the largest of 1, 1/2, 1/4, 1/8 of it that does
