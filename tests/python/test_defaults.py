@@ -55,3 +55,60 @@ def test_options_round_trip_every_field_and_take_enum_names():
     assert set(shadecut.OPTION_NAMES) == set(re.findall(r"(\w+)=", repr(DEFAULTS)))
     assert tuple(shadecut.Method.__members__) == shadecut.METHODS
     assert tuple(shadecut.LightMethod.__members__) == shadecut.LIGHT_METHODS
+
+
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "python_api.md"
+
+
+def table_rows(first_header: str) -> dict:
+    """The rows of the docs table whose first header cell is ``first_header``: {first cell: cells}."""
+    lines = DOCS.read_text().splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith(f"| {first_header} |"))
+    rows = {}
+    for line in lines[start + 2:]:
+        if not line.startswith("|"):
+            break
+        cells = [cell.strip() for cell in line.strip("|").split("|")]
+        rows[cells[0].strip("`")] = cells[1:]
+    return rows
+
+
+def documented(cell: str):
+    """A documented default as a value: numbers, True/False, None, an enum name, or '—' for unused."""
+    literal = cell.split(" (")[0].strip("`")
+    if literal == "—":
+        return 0
+    if literal in ("True", "False", "None"):
+        return {"True": True, "False": False, "None": None}[literal]
+    try:
+        return float(literal)
+    except ValueError:
+        return literal
+
+
+def test_the_docs_state_every_bound_option_default():
+    rows = table_rows("option")
+    assert set(rows) == set(shadecut.OPTION_NAMES)
+    for name, cells in rows.items():
+        default = cells[0]
+        value = getattr(DEFAULTS, name)
+        if default == "per method":
+            assert value is None, name
+            continue
+        expected = value.name if hasattr(value, "name") and hasattr(value, "value") else value
+        if isinstance(expected, bool) or expected is None or isinstance(expected, str):
+            assert documented(default) == expected, name
+        else:
+            assert documented(default) == float(expected), name
+
+
+def test_the_docs_state_every_method_default():
+    rows = table_rows("method")
+    assert set(rows) == set(shadecut.METHODS)
+    fields = ("min_curvature", "undefined_weight", "tolerance", "iterations", "smoothness")
+    for method, cells in rows.items():
+        values = shadecut.method_defaults(method)
+        assert [documented(cell) for cell in cells] == [float(getattr(values, f)) for f in fields], method
+        # A field the method uses for an option left None is shown beside it.
+        shown = repr(shadecut.ReconstructOptions(method=method))
+        assert f"min_curvature=None ({method}: {values.min_curvature!r})" in shown
