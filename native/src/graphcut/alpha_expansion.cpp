@@ -68,7 +68,7 @@ class MoveSolver {
         if (repaired) return true;
       }
       // The previous label's move has nearly the same shape; its flow, cut back to this move's
-      // capacities, leaves less to push than none (7% fewer instructions at 384 x 384).
+      // capacities, leaves less to push than none (docs/benchmarks.md, "Kept flows").
       if (!flows_->started()) flows_->start_from(alpha - 1);
     }
     // Sized at the first full cut: where the repairs solve every move, the graph is never needed.

@@ -24,7 +24,7 @@ namespace shadecut {
 namespace {
 
 // The shares of the call's progress spent on the normals and on them plus the integration (graphcut
-// with the Poisson integrator at a megapixel: about 0.8 s and 0.5 s); fit_shading takes the rest.
+// with the Poisson integrator at a megapixel, docs/benchmarks.md); fit_shading takes the rest.
 constexpr double kNormalsShare = 0.6;
 constexpr double kIntegratedShare = 0.8;
 // With a pulled labelling to confirm (viscosity_weight), its integration ends here and the paper's
@@ -33,8 +33,8 @@ constexpr double kConfirmShare = 0.65;
 constexpr double kConfirmNormalsShare = 0.75;
 
 // Whether the depth is fitted to the image after integration: graphcut only, where it was tuned
-// (graphcut_two's integrated depth is a worse start: the fit raised its evaluation mean, 22.97 ->
-// 25.12 deg, docs/results.md; the comparison methods stay as published), and not for a tiling surface.
+// (graphcut_two's integrated depth is a worse start: the fit raised its evaluation mean; the
+// comparison methods stay as published), and not for a tiling surface.
 bool fits_shading(const ReconstructOptions& options) {
   return options.fit_shading && options.method == Method::GraphCut && !options.seamless;
 }

@@ -20,7 +20,7 @@ enum class AlbedoMethod {
   /// albedo^2 at A = 0. A line fitted to the squared sorted intensities against their share of the
   /// mask, within TopFitWindow, gives the albedo. Highlights and saturated pixels brighter than the
   /// window's start do not move it. Under an oblique light the cap reaches the limb within the window
-  /// and the fit falls short (8% on a clean sphere lit at 45 degrees), so where the brightest value
+  /// and the fit falls short (docs/method.md#albedo), so where the brightest value
   /// exceeds the fit by no more than TopFitWindow::agreement (the image shows no highlight), the
   /// brightest value is taken: exact on a clean image.
   TopFit,

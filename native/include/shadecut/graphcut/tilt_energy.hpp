@@ -142,7 +142,7 @@ class TiltEnergy {
   int rows_ = 0, cols_ = 0, labels_ = 0;
   Mask mask_;
   // Without a band, label-major planes: an expansion move reads one of them in order (its reads
-  // strided by K per pixel made the exact alpha-expansion 30% slower). With a band, pixel p's window
+  // strided by K per pixel slowed the exact alpha-expansion). With a band, pixel p's window
   // holds the labels window_first_[p], window_first_[p] + 1, ... (mod K), at the slots
   // window_begin_[p] up to window_begin_[p + 1]; a band of 3 labels needs a twelfth of the memory of
   // all 36, which at 512 x 512 saves more time (in page faults) than building the costs takes.

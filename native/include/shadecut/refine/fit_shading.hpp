@@ -19,8 +19,8 @@ struct FitShadingParams {
   /// A larger object (object_size, pixels) is fitted on blocks of ceil(its size / this) pixels: the
   /// correction, bilinearly interpolated back, then the largest of 1, 1/2, 1/4, 1/8 of it that does
   /// not raise the residual at full resolution (or none). Bounds the time, since the sparse
-  /// factorizations grow faster than the pixel count (docs/benchmarks.md: 3.4 s at 256 px, 96 s at
-  /// 512 px unbounded, 4.3 s bounded).
+  /// factorizations grow faster than the pixel count (docs/benchmarks.md, "Fitting the depth to the
+  /// image").
   double max_object_size = 256.0;
   double tolerance = 1e-4;         ///< stop when a step lowers the cost by less than this share of it
 };
@@ -36,8 +36,8 @@ struct FitShadingStats {
 ///   sum over fitted pixels (rho max(0, n(z) . S) - I)^2  +  mu^2 sum |second differences of (z - z0)|^2
 ///
 /// The second term asks the correction, not the surface, to be smooth: a surface's own curvature (a
-/// sphere's rim) costs nothing, and where the start is right the fit leaves it (measured on the
-/// training surfaces: smoothing z itself flattened the sphere's rim, 0.4 -> 1.2-1.8 deg).
+/// sphere's rim) costs nothing, and where the start is right the fit leaves it (smoothing z itself
+/// flattened the sphere's rim on the training surfaces: docs/method.md, section 8).
 ///
 /// by Levenberg-Marquardt (Gauss-Newton steps, each a sparse Cholesky solve, SimplicialLDLT), started
 /// from `depth`. n(z) = (-p, -q, 1) / |.| with p, q the masked central differences of the depth
