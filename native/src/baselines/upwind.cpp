@@ -125,10 +125,7 @@ double update(const Hamiltonian& h, const Neighbours& n, double current) {
 
 UpwindResult upwind(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo, int iterations,
                     const Progress& progress) {
-  check_image(image);
-  check_mask(mask, image);
-  check_albedo(albedo);
-  check_iterations(iterations);
+  check_iterative_input(image, mask, albedo, iterations);
 
   const int rows = int(image.rows()), cols = int(image.cols());
   const double sx = light.direction.x(), sy = light.direction.y(), sz = light.direction.z();

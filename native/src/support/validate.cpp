@@ -43,4 +43,11 @@ void check_iterations(int iterations) {
   if (iterations < 1) throw InvalidArgument("shadecut: iterations must be at least 1 (got " + std::to_string(iterations) + ")");
 }
 
+void check_iterative_input(const ImageF& image, const Mask& mask, double albedo, int iterations) {
+  check_image(image);
+  check_mask(mask, image);
+  check_albedo(albedo);
+  check_iterations(iterations);
+}
+
 }  // namespace shadecut

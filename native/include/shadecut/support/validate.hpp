@@ -26,4 +26,7 @@ void check_albedo(double albedo);
 /// Throws InvalidArgument unless an iterative method is given at least one iteration.
 void check_iterations(int iterations);
 
+/// The checks of an iterative method that reads an image under a mask with an albedo (tsai_shah, upwind).
+void check_iterative_input(const ImageF& image, const Mask& mask, double albedo, int iterations);
+
 }  // namespace shadecut
