@@ -10,7 +10,7 @@ from mathutils import Euler, Vector
 
 import shadecut
 from shadecut import synthetic
-from shadecut.blender import frames, reconstruct_operator
+from shadecut.blender import frames, image_input, reconstruct_job, reconstruct_operator
 from shadecut.blender.mesh import vertex_step
 
 LIGHT = (1.0, 0.0, 1.0)
@@ -49,7 +49,7 @@ def test_reconstruct_builds_the_core_surface(addon, sphere_png):
     objects_before = set(bpy.data.objects)
 
     # The core run on exactly the arrays the operator hands over.
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     np.testing.assert_allclose(job.light, np.array(LIGHT) / math.sqrt(2), atol=1e-6)
     core = shadecut.reconstruct(job.image, job.light, job.mask, method="graphcut")
 
@@ -145,7 +145,7 @@ def test_default_working_size(addon, width, height, working):
     settings = bpy.context.scene.shadecut
     settings.image = image_of("photo", width, height)
     settings.light_source = "DIRECTION"
-    assert reconstruct_operator.prepare_job(bpy.context).image.shape == working
+    assert reconstruct_job.prepare_job(bpy.context).image.shape == working
 
 
 def test_mesh_edges_are_those_blender_computes(addon):
@@ -197,7 +197,7 @@ def test_max_resolution_downsamples(addon, sphere_png):
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
     settings.max_resolution = 48
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     assert job.image.shape == (48, 48)
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
     assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(job.mask)
@@ -217,7 +217,7 @@ def test_blender_pixels_are_the_linear_values_load_image_reads(addon, tmp_path, 
     else:
         shadecut.save_image(path, scene.image, scene.mask)
     loaded = shadecut.load_image(path)
-    intensity, mask = reconstruct_operator.image_pixels(bpy.data.images.load(str(path)))
+    intensity, mask = image_input.image_pixels(bpy.data.images.load(str(path)))
     np.testing.assert_allclose(intensity, loaded.image, atol=2e-4)
     np.testing.assert_array_equal(mask, loaded.mask)
 
@@ -246,7 +246,7 @@ def test_sun_direction_in_a_camera_frame(addon, camera_rotation):
     settings = bpy.context.scene.shadecut
     settings.light_source, settings.light_object, settings.frame = "OBJECT", sun, "CAMERA"
     bpy.context.scene.camera = camera
-    light, _ = reconstruct_operator._light(bpy.context, settings)
+    light, _ = reconstruct_job._light(bpy.context, settings)
     if expected[2] > 0:
         np.testing.assert_allclose(light, expected, atol=1e-6)
 
@@ -419,7 +419,7 @@ def test_a_failed_job_removes_the_image_it_loaded(addon, sphere_png):
     truth, path = sphere_png
     bpy.context.scene.shadecut.light_source = "DIRECTION"
     before = scene_state()
-    job = reconstruct_operator.prepare_job(bpy.context, str(path))
+    job = reconstruct_job.prepare_job(bpy.context, str(path))
     assert job.created_image and job.source_image.name in bpy.data.images
     job.error = ValueError("refused by the core")
 
@@ -427,7 +427,7 @@ def test_a_failed_job_removes_the_image_it_loaded(addon, sphere_png):
         def report(self, kind, message):
             self.last = (kind, message)
 
-    assert reconstruct_operator.finish_job(Reports(), bpy.context, job) == {"CANCELLED"}
+    assert reconstruct_job.finish_job(Reports(), bpy.context, job) == {"CANCELLED"}
     assert scene_state() == before
 
 
@@ -449,7 +449,7 @@ def test_cancelling_leaves_nothing_behind(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     job.cancel = True  # what Esc sets while the worker thread runs
     job.run()
     assert isinstance(job.error, shadecut.Cancelled)
@@ -460,7 +460,7 @@ def test_cancelling_leaves_nothing_behind(addon, sphere_png):
             self.last = (kind, message)
 
     reports = Reports()
-    assert reconstruct_operator.finish_job(reports, bpy.context, job) == {"CANCELLED"}
+    assert reconstruct_job.finish_job(reports, bpy.context, job) == {"CANCELLED"}
     assert "cancelled" in reports.last[1]
     assert scene_state() == before
 
@@ -472,7 +472,7 @@ def test_the_worker_thread_gives_the_synchronous_result(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    threaded, direct = reconstruct_operator.prepare_job(bpy.context), reconstruct_operator.prepare_job(bpy.context)
+    threaded, direct = reconstruct_job.prepare_job(bpy.context), reconstruct_job.prepare_job(bpy.context)
     worker = threading.Thread(target=threaded.run)
     worker.start()
     worker.join()
@@ -493,7 +493,7 @@ def test_estimated_light_reconstructs_the_sphere(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source = "ESTIMATE"
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     assert job.light is None and job.albedo is None
     job.run()
     angle = math.degrees(math.acos(np.dot(job.result.light, np.array(LIGHT) / math.sqrt(2))))
