@@ -25,7 +25,8 @@ from typing import Iterable, Optional, Union
 
 import numpy as np
 
-from . import dataset as _dataset
+from . import dataset_files
+from .api import light_direction
 
 REQUIRED = ("filenames.txt", "light_directions.txt", "light_intensities.txt", "mask.png", "Normal_gt.mat")
 CITATION = ("B. Shi, Z. Wu, Z. Mo, D. Duan, S.-K. Yeung, P. Tan, \"A Benchmark Dataset and Evaluation for "
@@ -127,7 +128,7 @@ def read_photo(source: Union[os.PathLike, str], name: str, intensity) -> np.ndar
     The PNG's 16-bit codes are read as they are stored (code / 65535, no colour conversion).
     """
     path = Path(source) / name
-    pixels, channels = _dataset.read_image_channels(path)
+    pixels, channels = dataset_files.read_image_channels(path)
     if pixels.shape[-1] < 3:
         raise ValueError(f"shadecut: {path} has channels {channels}; DiLiGenT's photographs are RGB")
     rgb = pixels[..., :3].astype(np.float64) / np.asarray(intensity, dtype=np.float64)
@@ -149,7 +150,7 @@ def import_diligent(source: Union[os.PathLike, str], out: Union[os.PathLike, str
     source, out = Path(source), Path(out)
     layout = read_layout(source)
     chosen = _select(layout, images, source)
-    mask_pixels, _ = _dataset.read_image_channels(source / "mask.png")
+    mask_pixels, _ = dataset_files.read_image_channels(source / "mask.png")
     mask = mask_pixels[..., 0] > 0.5
     if not mask.any():
         raise ValueError(f"shadecut: the mask {source / 'mask.png'} is empty")
@@ -165,16 +166,16 @@ def import_diligent(source: Union[os.PathLike, str], out: Union[os.PathLike, str
             raise ValueError(f"shadecut: {source / name} is {image.shape[1]} x {image.shape[0]} pixels; "
                              f"the mask is {mask.shape[1]} x {mask.shape[0]}")
         sample_id = f"{obj}_{Path(name).stem}"
-        light = _dataset.light_direction(layout["lights"][index]).tolist()
+        light = light_direction(layout["lights"][index]).tolist()
         meta = {"id": sample_id, "shape": obj, "pixel_size": PIXEL_SIZE, "source": "DiLiGenT",
                 "citation": CITATION, "source_folder": str(source.resolve()), "source_image": name,
                 "light_index": index, "light_intensity": layout["intensities"][index].tolist(),
                 "image_rule": "mean over R, G, B of channel / light intensity, linear",
                 "camera": "perspective, nearly orthographic (focal length about 3772 px, object about 1.5 m away)"}
-        _dataset.write_sample(out / sample_id, image=image, normals=normals, depth=None, mask=mask, light=light,
+        dataset_files.write_sample(out / sample_id, image=image, normals=normals, depth=None, mask=mask, light=light,
                               albedo=None, meta=meta)
         entries.append({"id": sample_id, "shape": obj, "folder": sample_id, "light": light, "albedo": None,
                         "size": mask.shape[1], "seed": None, "source_image": name})
-    _dataset.write_manifest(out, entries, {"generator": "shadecut.dataset.import_diligent", "source": "DiLiGenT",
+    dataset_files.write_manifest(out, entries, {"generator": "shadecut.dataset.import_diligent", "source": "DiLiGenT",
                                            "source_folder": str(source.resolve()), "citation": CITATION})
     return entries

@@ -191,3 +191,16 @@ def test_the_ball_of_the_benchmark(tmp_path):
         lit = sample.mask & (sample.image < 0.9 * sample.image[sample.mask].max())
         shading = np.clip(sample.normals[lit] @ sample.light, 0, None)
         assert np.corrcoef(shading, sample.image[lit])[0, 1] > 0.8, entry["id"]
+
+
+@pytest.mark.parametrize("module", ["shadecut.diligent", "shadecut.dataset_files", "shadecut.dataset"])
+def test_each_module_imports_first(module):
+    """No import cycle: a fresh interpreter can start from any of the modules that write samples."""
+    import subprocess
+    import sys
+
+    addon = Path(shadecut.__file__).resolve().parents[1]
+    completed = subprocess.run([sys.executable, "-c", f"import {module}; import shadecut.dataset as d; "
+                                "assert d.import_diligent.__module__ == 'shadecut.diligent'"],
+                               capture_output=True, text=True, env={"PYTHONPATH": str(addon)}, timeout=60)
+    assert completed.returncode == 0, completed.stderr
