@@ -47,7 +47,7 @@ for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # sha
 import OpenImageIO as oiio  # noqa: E402  (shadecut.dataset's writer too; in Debian's Blender and python3)
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
 from shadecut import imaging  # noqa: E402
-from sigint import handling_sigint  # noqa: E402
+from sigint import StopRequest  # noqa: E402
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr", ".hdr", ".bmp", ".tga")
 PROG = "batch.py"
@@ -142,28 +142,11 @@ def write_outputs(paths: dict[str, Path], result) -> None:
                 path.unlink()
 
 
-class _Interrupt:
-    requested = False
-
-
-def _on_sigint(signum, frame):
-    if not _Interrupt.requested:
-        print(f"{PROG}: Ctrl+C: stopping (the image under way is abandoned)", file=sys.stderr, flush=True)
-    _Interrupt.requested = True
+STOP = StopRequest(f"{PROG}: Ctrl+C: stopping (the image under way is abandoned)", always_deferred=True)
 
 
 def _progress(fraction: float, stage: str) -> bool:
-    return not _Interrupt.requested  # False: the core stops with shadecut.Cancelled
-
-
-@contextlib.contextmanager
-def stop_on_interrupt():
-    """Ctrl+C (SIGINT) only asks the run to stop; the reconstruction under way sees it through its
-    progress callback. Blender in background mode has its own C handler (which would let the run go
-    on): it is saved and put back afterwards, as make_dataset.py does."""
-    _Interrupt.requested = False
-    with handling_sigint(_on_sigint):
-        yield
+    return not STOP.requested  # False: the core stops with shadecut.Cancelled
 
 
 def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str]:
@@ -197,7 +180,7 @@ def run(args: argparse.Namespace) -> int:
     stems: dict[str, str] = {}
     total, start = len(images), time.perf_counter()
     for index, path in enumerate(images, 1):
-        if _Interrupt.requested:
+        if STOP.requested:
             raise KeyboardInterrupt
         began = time.perf_counter()
         label = f"[{index}/{total}] {path.name}"
@@ -235,7 +218,7 @@ def main(argv: list[str]) -> int:
     """Runs the batch with the arguments that follow "--" on Blender's command line."""
     try:
         args = parse_args(argv)
-        with stop_on_interrupt():
+        with STOP.installed():  # Ctrl+C is seen by the reconstruction's progress callback
             return run(args)
     except UsageError as error:
         print(f"{PROG}: error: {error}", file=sys.stderr, flush=True)

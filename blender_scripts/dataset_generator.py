@@ -1,33 +1,6 @@
-"""Synthetic Lambertian dataset generator: Cycles renders of a catalogue of shapes with exact ground truth.
-
-    blender -b -P blender_scripts/make_dataset.py -- --out DIR [--shapes sphere,torus,...] [--mesh FILE ...]
-        [--lights N | --light X,Y,Z ...] [--slant-min 10] [--slant-max 60] [--size 256] [--albedo 0.8]
-        [--noise SIGMA] [--bits 8|16] [--shadows] [--indirect] [--samples N] [--seed S] [--shard I/N]
-
-Every shape gets ``--lights`` lights drawn with the seed, uniformly over the directions whose slant
-(angle from the viewing direction) lies between --slant-min and --slant-max degrees, every tilt; or
-the --light directions given (camera frame, x right, y up, z toward the viewer). Each sample is a
-folder ``<shape>_<light index>`` in the format of ``shadecut.dataset``; ``manifest.json`` and
-``manifest.csv`` list the finished samples. The lights and the noise depend only on --seed and the
-shape's name, so the same seed gives the same dataset whatever the shard or the other shapes.
-
-Re-running skips the finished samples (an interrupted sample leaves no folder: samples are written
-atomically); a sample counts as finished only when every file it lists reads back whole with the
-planned resolution and channels, so one damaged later (truncated by a full disk, a copy cut short)
-is rendered again. ``--shard I/N`` (I from 0 to N-1) renders only the samples whose index modulo N is I,
-so that processes, machines or a batch scheduler's array jobs share a dataset folder; each shard
-refreshes the manifest with what is on disk, and a last run without --shard (everything skipped)
-writes the complete one.
-
-Exit code 0 on success, 1 when a render failed, 2 for bad input (unknown shape, unreadable mesh,
-light at or below the horizon, a negative seed, a NaN or negative noise, unwritable output folder...),
-with a message and no traceback. Ctrl+C (SIGINT) stops the whole run after the render under way: the
-finished samples and a manifest listing them are kept, and the exit code is 130.
-``main(argv)`` runs the generator in-process (argv = the arguments after "--") and returns the code.
-
-This file is the command: arguments, plan, rendering loop, manifest. The shapes themselves, built-in
-and read from mesh files, are the catalogue in shapes.py.
-"""
+"""The synthetic dataset generator behind make_dataset.py (its docstring describes the command):
+arguments, plan, rendering loop, manifest. A module, so that eval.py generates its default dataset
+in-process with :func:`main`; the shapes themselves are the catalogue in shapes.py."""
 
 from __future__ import annotations
 
@@ -52,7 +25,7 @@ for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # sha
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
 from shadecut import dataset  # noqa: E402
 from shadecut.blender import lambertian  # noqa: E402
-from sigint import handling_sigint  # noqa: E402
+from sigint import StopRequest  # noqa: E402
 from shapes import (  # noqa: E402
     BUILDERS, CATALOGUE, MESH_SUFFIXES, MeshFileError, load_mesh_file, remove_objects, shape_rng,
 )
@@ -242,52 +215,14 @@ def finished(folder: Path, entry: dict) -> bool:
     return True
 
 
-class _Interrupt:
-    """State of the SIGINT handler that stop_on_interrupt installs."""
-
-    requested = False  # Ctrl+C was pressed
-    deferred = False  # inside a sample (building, rendering, writing): stop when it is done
-
-
-def _on_sigint(signum, frame):
-    _Interrupt.requested = True
-    if not _Interrupt.deferred:
-        raise KeyboardInterrupt
-    print("make_dataset: Ctrl+C: stopping after the sample under way", file=sys.stderr, flush=True)
-
-
-@contextlib.contextmanager
-def defer_interrupt():
-    """Ctrl+C inside is remembered, and raises KeyboardInterrupt on leaving (unless an error does).
-
-    A KeyboardInterrupt raised inside Blender's render would land in Python code that Blender calls
-    (Cycles' engine.render), where Blender prints and swallows it: the render returns half done and
-    the run goes on. So a sample is finished first, then the run stops.
-    """
-    outer = _Interrupt.deferred
-    _Interrupt.deferred = True
-    try:
-        yield
-    finally:
-        _Interrupt.deferred = outer
-    if _Interrupt.requested and not outer:
-        raise KeyboardInterrupt
-
-
-@contextlib.contextmanager
-def stop_on_interrupt():
-    """Ctrl+C (SIGINT) stops the whole run, instead of Blender's own handling of it.
-
-    Blender in background mode handles SIGINT itself: it cancels the render under way (Python sees a
-    render that returned early) and carries on, so the loop would go on with the next sample. This
-    handler replaces it while the generator runs: outside a sample it raises KeyboardInterrupt at once;
-    inside one (defer_interrupt) the sample is finished first. KeyboardInterrupt unwinds the loop (a
-    half-written sample is removed by dataset.write_sample; the manifest is refreshed) and main()
-    reports it. Blender's handler is restored afterwards.
-    """
-    _Interrupt.requested = _Interrupt.deferred = False
-    with handling_sigint(_on_sigint):
-        yield
+# Ctrl+C stops the whole run, instead of Blender's own handling of it, which cancels the render under
+# way (Python sees a render that returned early) and carries on with the next sample. Outside a sample
+# it raises KeyboardInterrupt at once; inside one (STOP.deferring()) the sample is finished first,
+# since a KeyboardInterrupt raised inside Blender's render would land in Python code that Blender
+# calls (Cycles' engine.render), where Blender prints and swallows it. KeyboardInterrupt unwinds the
+# loop (a half-written sample is removed by dataset.write_sample; the manifest is refreshed) and
+# main() reports it.
+STOP = StopRequest("make_dataset: Ctrl+C: stopping after the sample under way", always_deferred=False)
 
 
 @contextlib.contextmanager
@@ -357,7 +292,7 @@ def generate(args: argparse.Namespace) -> int:
     try:
         for position, entry in enumerate(todo, 1):
             shape = entry["shape"]
-            with defer_interrupt():  # Ctrl+C: this sample is finished, then the run stops
+            with STOP.deferring():  # Ctrl+C: this sample is finished, then the run stops
                 if shape not in shape_objects:
                     # Objects of the previous shape go first: only one shape's meshes are alive at a time.
                     for objects in shape_objects.values():
@@ -398,7 +333,7 @@ def main(argv: list[str]) -> int:
     """Runs the generator with the arguments that follow "--" on Blender's command line."""
     try:
         args = parse_args(argv)
-        with stop_on_interrupt():
+        with STOP.installed():
             return generate(args)
     except (UsageError, MeshFileError) as error:
         print(f"make_dataset: error: {error}", file=sys.stderr, flush=True)
@@ -410,6 +345,3 @@ def main(argv: list[str]) -> int:
               "kept, re-run the same command to continue", file=sys.stderr, flush=True)
         return 130
 
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []))

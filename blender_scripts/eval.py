@@ -43,9 +43,9 @@ from mathutils import Vector
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "addon"))
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # make_dataset.py and shapes.py
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # dataset_generator.py and shapes.py
 
-import make_dataset  # noqa: E402  (after the path inserts: the repository's scripts and package)
+import dataset_generator  # noqa: E402  (after the path inserts: the repository's scripts and package)
 import shadecut  # noqa: E402
 import shapes  # noqa: E402
 from shadecut import evaluation  # noqa: E402
@@ -53,7 +53,7 @@ from shadecut.blender import lambertian  # noqa: E402
 from shadecut.blender.mesh import depth_mesh  # noqa: E402
 
 # The sources of the generated dataset: a change to any of them gives a new dataset.
-GENERATOR_SOURCES = tuple(Path(module.__file__) for module in (make_dataset, shapes, lambertian))
+GENERATOR_SOURCES = tuple(Path(module.__file__) for module in (dataset_generator, shapes, lambertian))
 GENERATED_DEFAULTS = {"size": 256, "lights": 3, "seed": 0}
 
 
@@ -117,7 +117,7 @@ def generated_dataset(args: argparse.Namespace) -> Path:
     print(f"generating the dataset {folder} ({json.dumps(settings)})", flush=True)
     argv = ["--out", str(folder), "--size", str(settings["size"]), "--lights", str(settings["lights"]),
             "--seed", str(settings["seed"])] + (["--shapes", args.shapes] if args.shapes else [])
-    code = make_dataset.main(argv)
+    code = dataset_generator.main(argv)
     if code != 0:
         raise evaluation.EvaluationError(f"make_dataset.py {' '.join(argv)} failed (exit code {code})")
     complete.write_text(json.dumps(settings) + "\n")
