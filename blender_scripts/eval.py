@@ -49,11 +49,12 @@ import dataset_generator  # noqa: E402  (after the path inserts: the repository'
 import shadecut  # noqa: E402
 import shapes  # noqa: E402
 from shadecut import evaluation  # noqa: E402
-from shadecut.blender import lambertian  # noqa: E402
+from shadecut.blender import lambertian, lambertian_passes, lambertian_scene  # noqa: E402
 from shadecut.blender.mesh import depth_mesh  # noqa: E402
 
 # The sources of the generated dataset: a change to any of them gives a new dataset.
-GENERATOR_SOURCES = tuple(Path(module.__file__) for module in (dataset_generator, shapes, lambertian))
+GENERATOR_SOURCES = tuple(Path(module.__file__) for module in (dataset_generator, shapes, lambertian,
+                                                                lambertian_scene, lambertian_passes))
 GENERATED_DEFAULTS = {"size": 256, "lights": 3, "seed": 0}
 
 
