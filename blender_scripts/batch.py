@@ -24,7 +24,8 @@ image extension are listed as skipped.
 
 Exit code: 0 when every image was done; 1 when an image failed (each named, and listed again at the
 end); 2 for bad arguments (IN_DIR missing or not a folder, no image file in it, OUT_DIR not
-creatable, a negative --max-size), with a message and no traceback. Ctrl+C (SIGINT) stops the run:
+creatable, a negative --max-size, an output that would replace an input image, as OUT_DIR = IN_DIR
+does for x.png beside x_normal.png), with a message and no traceback: nothing is written. Ctrl+C (SIGINT) stops the run:
 the image under way is abandoned (nothing of it is written), the finished ones are kept, exit code 130.
 """
 
@@ -109,6 +110,19 @@ def output_paths(out_dir: Path, stem: str) -> dict[str, Path]:
             "mesh": out_dir / f"{stem}.ply"}
 
 
+def check_inputs_kept(images: list[Path], out_dir: Path) -> None:
+    """UsageError when an output would replace an input image (OUT_DIR = IN_DIR, x.png beside
+    x_normal.png): it would be overwritten before it is read, and the overwritten image reconstructed."""
+    inputs = {path.resolve(): path for path in images}
+    for image in images:
+        replaced = [inputs[resolved].name for resolved in (path.resolve() for path in
+                                                           output_paths(out_dir, image.stem).values())
+                    if resolved in inputs]
+        if replaced:
+            raise UsageError(f"the outputs of {image.name} would replace the input image{'s' * (len(replaced) > 1)} "
+                             f"{', '.join(replaced)} in {out_dir}: choose another OUT_DIR, or rename the input")
+
+
 def save_normal_map(path: Path, normals: np.ndarray, mask: np.ndarray) -> None:
     """The normals as a 16-bit RGB PNG of the add-on's normal-map colours (imaging.normal_colors)."""
     colors = imaging.normal_colors(normals, mask)
@@ -168,6 +182,7 @@ def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str]
 
 def run(args: argparse.Namespace) -> int:
     images, skipped = list_inputs(args.in_dir)
+    check_inputs_kept(images, args.out_dir)
     prepare_output(args.out_dir)
     options = shadecut.ReconstructOptions() if args.scene is None else shadecut.ReconstructOptions(scene=args.scene)
     print(f"{PROG}: {len(images)} image(s) in {args.in_dir} -> {args.out_dir}; scene {options.scene.name}, "
