@@ -74,6 +74,12 @@ def read_layout(source: Union[os.PathLike, str]) -> dict:
     names = (source / "filenames.txt").read_text().split()
     if not names:
         raise ValueError(f"shadecut: {source / 'filenames.txt'} lists no image")
+    first_line = {}
+    for line, name in enumerate(names, 1):
+        if name in first_line:  # one image with two lights: which one is meant is unknown
+            raise ValueError(f"shadecut: {source / 'filenames.txt'} lists {name} twice (lines {first_line[name]} and "
+                             f"{line}); each line pairs one image with the light on the same line of the light files")
+        first_line[name] = line
     lights = _table(source / "light_directions.txt", len(names))
     intensities = _table(source / "light_intensities.txt", len(names))
     if not (intensities > 0).all():

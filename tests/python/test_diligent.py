@@ -127,6 +127,18 @@ def test_malformed_layouts_are_refused(tiny, tmp_path):
         dataset.import_diligent(source, tmp_path / "out")
 
 
+def test_a_name_listed_twice_is_refused_before_anything_is_written(tiny, tmp_path):
+    """Two lines of filenames.txt for one image pair it with two lights: which one is meant is unknown,
+    and importing both wrote two manifest entries for one sample folder."""
+    source, _ = tiny
+    (source / "filenames.txt").write_text("\n".join([*NAMES, "002.png"]) + "\n")
+    np.savetxt(source / "light_directions.txt", np.vstack([LIGHTS, LIGHTS[:1]]))
+    np.savetxt(source / "light_intensities.txt", np.vstack([INTENSITIES, INTENSITIES[:1]]))
+    with pytest.raises(ValueError, match=r"filenames.txt lists 002.png twice \(lines 2 and 5\)"):
+        dataset.import_diligent(source, tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
 def test_find_objects_accepts_an_object_or_a_folder_of_them(tiny, tmp_path):
     source, _ = tiny
     assert evaluation.find_objects(source) == [source]
