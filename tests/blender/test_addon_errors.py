@@ -13,6 +13,13 @@ from shadecut.blender import reconstruct_job, reconstruct_operator
 from test_addon import LIGHT, add_sun, scene_state
 
 
+class Reports:
+    """Stands in for the operator whose report() a job's finish calls: keeps the last report."""
+
+    def report(self, kind, message):
+        self.last = (kind, message)
+
+
 def write_file(path, pixels):
     """Writes (H, W, C) pixels with OpenImageIO (not the library, which may refuse bad images)."""
     import OpenImageIO as oiio
@@ -164,11 +171,8 @@ def test_errors_return_cancelled(addon, sphere_png, tmp_path):
     settings.light_source = "DIRECTION"
     settings.density = 96
 
-    class Operator:
+    class Operator(Reports):
         filepath, _interactive = str(sphere_png[1]), False
-
-        def report(self, kind, message):
-            self.last = (kind, message)
 
     operator = Operator()
     before = scene_state()
@@ -184,10 +188,6 @@ def test_a_failed_job_removes_the_image_it_loaded(addon, sphere_png):
     job = reconstruct_job.prepare_job(bpy.context, str(path))
     assert job.created_image and job.source_image.name in bpy.data.images
     job.error = ValueError("refused by the core")
-
-    class Reports:
-        def report(self, kind, message):
-            self.last = (kind, message)
 
     assert reconstruct_job.finish_job(Reports(), bpy.context, job) == {"CANCELLED"}
     assert scene_state() == before
@@ -216,11 +216,6 @@ def test_cancelling_leaves_nothing_behind(addon, sphere_png):
     job.run()
     assert isinstance(job.error, shadecut.Cancelled)
     before = scene_state()
-
-    class Reports:
-        def report(self, kind, message):
-            self.last = (kind, message)
-
     reports = Reports()
     assert reconstruct_job.finish_job(reports, bpy.context, job) == {"CANCELLED"}
     assert "cancelled" in reports.last[1]
