@@ -117,14 +117,17 @@ def _normals(path: Path, shape: tuple) -> np.ndarray:
     from scipy.io import loadmat  # only here: the add-on's other modules run without scipy
 
     try:
-        normals = loadmat(str(path))["Normal_gt"]
-    except KeyError:
-        raise ValueError(f"shadecut: {path} holds no variable Normal_gt") from None
-    except (ValueError, TypeError, OSError) as error:
-        raise ValueError(f"shadecut: cannot read {path}: {error}") from None
-    if normals.shape != (*shape, 3):
-        raise ValueError(f"shadecut: {path} holds Normal_gt of shape {normals.shape}; the mask is {shape}, "
-                         f"so (H, W, 3) = {(*shape, 3)} was expected")
+        contents = loadmat(str(path))
+    except Exception as error:  # noqa: BLE001  (a damaged file raises whatever scipy's parser meets first)
+        raise ValueError(f"shadecut: cannot read {path}: it is not a readable MATLAB file "
+                         f"({type(error).__name__}: {error})") from None
+    if "Normal_gt" not in contents:
+        raise ValueError(f"shadecut: {path} holds no variable Normal_gt")
+    normals = contents["Normal_gt"]
+    if not (isinstance(normals, np.ndarray) and normals.dtype.kind in "fiu" and normals.shape == (*shape, 3)):
+        raise ValueError(f"shadecut: {path} holds Normal_gt of shape {np.shape(normals)} "
+                         f"({np.asarray(normals).dtype}); the mask is {shape}, so numbers of shape (H, W, 3) = "
+                         f"{(*shape, 3)} were expected")
     return np.nan_to_num(np.asarray(normals, dtype=np.float32))
 
 

@@ -139,6 +139,26 @@ def test_a_name_listed_twice_is_refused_before_anything_is_written(tiny, tmp_pat
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("kept_bytes", [10, 100, 300])
+def test_a_damaged_normal_gt_mat_is_a_message_naming_it(tiny, tmp_path, kept_bytes):
+    """A Normal_gt.mat cut short (a copy or download interrupted) made scipy raise IndexError, which
+    eval.py --diligent showed as a traceback with exit code 1 instead of its message and exit 2."""
+    source, _ = tiny
+    mat = source / "Normal_gt.mat"
+    mat.write_bytes(mat.read_bytes()[:kept_bytes])
+    with pytest.raises(ValueError, match=f"cannot read {mat}"):
+        dataset.import_diligent(source, tmp_path / "out")
+    with pytest.raises(evaluation.EvaluationError, match="Normal_gt.mat"):
+        evaluation.import_objects([source], tmp_path / "eval")
+
+
+def test_a_normal_gt_that_is_not_an_array_of_numbers_is_refused(tiny, tmp_path):
+    source, _ = tiny
+    scipy.io.savemat(source / "Normal_gt.mat", {"Normal_gt": "not normals"})
+    with pytest.raises(ValueError, match="Normal_gt.mat holds Normal_gt of shape"):
+        dataset.import_diligent(source, tmp_path / "out")
+
+
 def test_find_objects_accepts_an_object_or_a_folder_of_them(tiny, tmp_path):
     source, _ = tiny
     assert evaluation.find_objects(source) == [source]
