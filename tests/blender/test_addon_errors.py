@@ -2,6 +2,7 @@
 and a refused, failed or cancelled run leaves the scene as it was."""
 
 import math
+import os
 import re
 
 import bpy
@@ -56,6 +57,11 @@ def _bad_file(case, tmp_path):
         return str(tmp_path / "notes.png")
     if case == "file missing":
         return str(tmp_path / "missing.png")
+    if case == "file named pipe":
+        os.mkfifo(tmp_path / "pipe.png")
+        return str(tmp_path / "pipe.png")
+    if case == "file device":
+        return "/dev/zero"
     if case == "file of the user's, black":
         path = write_file(tmp_path / "black.png", np.zeros((16, 16, 1), np.uint8))
         bpy.data.images.load(path)  # the user's own: a failure must not remove it
@@ -152,6 +158,8 @@ def _error_setup(case, sphere_png, tmp_path):
     ("file directory", "folder.png': it is a directory, not an image file"),
     ("file not an image", "notes.png': it is not an image file Blender can read"),
     ("file missing", "missing.png': there is no such file"),
+    ("file named pipe", "pipe.png': it is a named pipe (FIFO), not an image file"),
+    ("file device", "Cannot read '/dev/zero': it is a character device, not an image file"),
     ("file of the user's, black", "Image 'black.png' is black"),
 ])
 def test_errors_are_reports_and_leave_the_scene_alone(addon, sphere_png, tmp_path, case, message):

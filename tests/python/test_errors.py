@@ -1,7 +1,9 @@
 """Bad input raises a clear Python exception, never a crash."""
 
+import os
 import struct
 import subprocess
+import sys
 import zlib
 from pathlib import Path
 
@@ -192,3 +194,16 @@ def test_a_folder_or_a_missing_file_is_named_as_such(tmp_path):
         shadecut.load_image(tmp_path)
     with pytest.raises(OSError, match="no such file"):
         shadecut.load_image(tmp_path / "missing.png")
+
+
+def test_a_named_pipe_or_a_device_is_refused_without_reading_it(tmp_path):
+    """A FIFO blocked load_image forever and /dev/zero made it spin: neither is a regular file. Run in
+    a child process, so that a regression fails on its time limit instead of hanging the suite."""
+    fifo = tmp_path / "pipe.png"
+    os.mkfifo(fifo)
+    for path, kind in ((fifo, "a named pipe (FIFO)"), ("/dev/zero", "a character device")):
+        code = f"import shadecut\ntry:\n    shadecut.load_image({str(path)!r})\nexcept OSError as e:\n    print(e)"
+        completed = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=30,
+                                   env={**os.environ, "PYTHONPATH": str(Path(shadecut.__file__).parents[1])})
+        assert completed.stdout.strip() == f'cannot read image "{path}": it is {kind}, not a regular file', \
+            completed.stdout + completed.stderr

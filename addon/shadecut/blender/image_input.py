@@ -14,6 +14,7 @@ import bpy
 import numpy as np
 
 from .. import imaging
+from ..file_kinds import special_file_kind
 
 # Colour spaces whose stored 8-bit values are linear already.
 LINEAR_SPACES = {"Linear", "Linear ACES", "Linear ACEScg", "Non-Color", "Raw", "XYZ"}
@@ -62,6 +63,9 @@ def load_file(filepath: str) -> tuple[bpy.types.Image, bool]:
         raise InputError(f"Cannot read '{filepath}': there is no such file")
     if os.path.isdir(path):
         raise InputError(f"Cannot read '{filepath}': it is a directory, not an image file")
+    kind = special_file_kind(path)
+    if kind is not None:  # Blender would wait on a pipe forever, and read a device without end
+        raise InputError(f"Cannot read '{filepath}': it is {kind}, not an image file")
     existing = {image.as_pointer() for image in bpy.data.images}
     try:
         image = bpy.data.images.load(filepath, check_existing=True)
