@@ -125,6 +125,9 @@ def reconstruct(
         a :class:`Reconstruction`: ``normals``, ``depth``, ``mask``, ``albedo``, ``light`` and
         ``stats`` (a :class:`ReconstructStats`).
     """
+    if options is not None and not isinstance(options, ReconstructOptions):
+        raise TypeError(f"shadecut: options must be a ReconstructOptions, not a {type(options).__name__}: "
+                        "options=ReconstructOptions(labels=24), or the fields as keywords (labels=24)")
     chosen = (options or ReconstructOptions()).replace(**overrides)
     return _core.reconstruct(_real(image), None if light is None else _vector3(light), _mask(mask), albedo,
                              chosen, progress)
@@ -245,7 +248,8 @@ def load_image(path: str | os.PathLike, color_space: str = "auto", max_pixels: O
     one whose header declares more than ``max_pixels`` pixels (None = 2^28).
     """
     files = _image_files()
-    limit = files.DEFAULT_MAX_PIXELS if max_pixels is None else int(max_pixels)
+    # A header's width and height are 32-bit, so a limit above 2^63 (the reader's integer) is no limit.
+    limit = files.DEFAULT_MAX_PIXELS if max_pixels is None else min(int(max_pixels), 2**63 - 1)
     kind = special_file_kind(path)
     if kind is not None:
         raise OSError(f'cannot read image "{os.fspath(path)}": it is {kind}, not a regular file')

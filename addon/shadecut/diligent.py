@@ -51,9 +51,13 @@ def _table(path: Path, rows: int) -> np.ndarray:
         values = np.loadtxt(path, dtype=np.float64, ndmin=2)
     except ValueError as error:
         raise ValueError(f"shadecut: {path} is not a table of numbers: {error}") from None
-    if values.shape != (rows, 3) or not np.isfinite(values).all():
+    if values.shape != (rows, 3):
         raise ValueError(f"shadecut: {path} must hold {rows} lines of 3 numbers (one per line of "
                          f"filenames.txt); it holds shape {values.shape}")
+    if not np.isfinite(values).all():
+        line = int(np.argwhere(~np.isfinite(values))[0, 0]) + 1
+        raise ValueError(f"shadecut: {path} line {line} holds a value that is not a finite number "
+                         f"({' '.join(str(value) for value in values[line - 1])})")
     return values
 
 

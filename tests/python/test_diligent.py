@@ -159,6 +159,15 @@ def test_a_normal_gt_that_is_not_an_array_of_numbers_is_refused(tiny, tmp_path):
         dataset.import_diligent(source, tmp_path / "out")
 
 
+def test_a_nan_in_a_light_file_is_named_as_such_not_as_a_shape(tiny, tmp_path):
+    source, _ = tiny
+    intensities = INTENSITIES.copy()
+    intensities[2, 1] = np.nan
+    np.savetxt(source / "light_intensities.txt", intensities)
+    with pytest.raises(ValueError, match=r"light_intensities.txt line 3 holds a value that is not a finite number"):
+        dataset.import_diligent(source, tmp_path / "out")
+
+
 def test_find_objects_accepts_an_object_or_a_folder_of_them(tiny, tmp_path):
     source, _ = tiny
     assert evaluation.find_objects(source) == [source]

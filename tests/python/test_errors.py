@@ -99,6 +99,27 @@ def test_an_option_of_the_wrong_type_names_the_option_and_the_value():
     options.tolerance = None  # an option that may be unset takes None
 
 
+def test_options_given_as_a_dict_say_how_to_give_them():
+    with pytest.raises(TypeError, match=r"options must be a ReconstructOptions, not a dict: "
+                                        r"options=ReconstructOptions\(labels=24\), or the fields as keywords"):
+        shadecut.reconstruct(GOOD, LIGHT, options={"labels": 24})
+
+
+def test_a_max_pixels_beyond_any_image_is_no_limit(tmp_path):
+    """2**70 gave pybind11's "incompatible function arguments": no header can declare that many pixels."""
+    png_declaring(tmp_path / "normal.png", 4, 4)
+    assert shadecut.load_image(tmp_path / "normal.png", max_pixels=2**70).image.shape == (4, 4)
+
+
+def test_a_depth_file_that_is_not_text_is_named():
+    """synthetic.mozart on a PNG raised UnicodeDecodeError from numpy's text reader."""
+    from shadecut import synthetic
+
+    picture = Path(__file__).resolve().parents[2] / "docs" / "addon_screenshot.png"
+    with pytest.raises(ValueError, match=f"{picture} is not a text file of numbers"):
+        synthetic.mozart(picture)
+
+
 def test_a_falsy_progress_answer_cancels_and_none_goes_on():
     for answer in (False, 0, "", []):
         with pytest.raises(shadecut.Cancelled):
