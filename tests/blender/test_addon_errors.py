@@ -89,6 +89,14 @@ def _error_setup(case, sphere_png, tmp_path):
         settings.image.pixels.foreach_set(np.tile([0, 0, 0, 1], 32 * 32).astype(np.float32))
     elif case == "horizon":
         settings.light_direction = (1, 0, 0)
+    elif case == "huge light below":
+        settings.light_direction = (1e38, 0, -1)
+    elif case == "area light":
+        lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "AREA"))
+        bpy.context.collection.objects.link(lamp)
+        settings.light_source, settings.light_object = "OBJECT", lamp
+    elif case == "image sequence":
+        settings.image.source = "SEQUENCE"
     elif case == "not a sun":
         lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
         bpy.context.collection.objects.link(lamp)
@@ -134,6 +142,9 @@ def _error_setup(case, sphere_png, tmp_path):
     ("no pixels", "has no pixels"),
     ("dark", "is black"),
     ("horizon", "at or below the horizon"),
+    ("huge light below", "The light (1e+38, 0, -1) cannot be used"),
+    ("area light", "Light 'Lamp' is an area light"),
+    ("image sequence", "Image 'sphere.png' is an image sequence: ShadeCut reconstructs one still image"),
     ("not a sun", "point light"),
     ("no camera", "No camera"),
     ("sun below", "at or below the horizon"),

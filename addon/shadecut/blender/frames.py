@@ -12,6 +12,8 @@ import math
 import bpy
 from mathutils import Quaternion, Vector
 
+from .wording import with_article
+
 # An axis of an object's world matrix shorter than this is scaled to zero: it has no orientation.
 MIN_AXIS = 1e-9
 
@@ -47,7 +49,7 @@ def sun_direction_world(light_object: bpy.types.Object) -> Vector:
         raise FrameError(f"'{light_object.name}' is not a light: pick a Sun light object")
     if light_object.data.type != "SUN":
         raise FrameError(
-            f"Light '{light_object.name}' is a {light_object.data.type.lower()} light: the method assumes a "
+            f"Light '{light_object.name}' is {with_article(light_object.data.type)} light: the method assumes a "
             "distant light, so use a Sun (or type the direction)"
         )
     return (world_rotation(light_object, "Sun") @ Vector((0.0, 0.0, 1.0))).normalized()

@@ -19,6 +19,9 @@ from ..file_kinds import special_file_kind
 # Colour spaces whose stored 8-bit values are linear already.
 LINEAR_SPACES = {"Linear", "Linear ACES", "Linear ACEScg", "Non-Color", "Raw", "XYZ"}
 
+# Image sources that are not one still picture, as the messages name them.
+MOVING_SOURCES = {"SEQUENCE": "an image sequence", "MOVIE": "a movie"}
+
 
 class InputError(ValueError):
     """Bad input the user can fix; the message says how."""
@@ -30,6 +33,9 @@ def image_pixels(image: bpy.types.Image) -> tuple[np.ndarray, np.ndarray]:
     Float buffers hold scene-linear values; byte buffers hold the file's encoded values, decoded
     here according to the image's colour space.
     """
+    if image.source in MOVING_SOURCES:  # their pixels are a frame's, or none: not "a missing file"
+        raise InputError(f"Image '{image.name}' is {MOVING_SOURCES[image.source]}: ShadeCut reconstructs one still "
+                         "image; set its Source to Single Image, or choose another")
     width, height = image.size
     if width * height == 0:
         raise InputError(f"Image '{image.name}' has no pixels (is its file missing?): reload it or choose another")

@@ -38,6 +38,7 @@ from . import frames, lambertian_passes, lambertian_scene
 # Part of this module's interface, written where they are built.
 from .lambertian_passes import LambertianRender, files_unavailable  # noqa: F401
 from .lambertian_scene import RenderError
+from .wording import short_number
 
 INDIRECT_SAMPLES = 512  # default samples with indirect light: its noise is then 0.4% rms (README)
 
@@ -59,8 +60,8 @@ def camera_frame_light(light, camera_rotation: Matrix) -> np.ndarray:
     try:
         return light_direction(light)
     except ValueError as error:
-        raise RenderError(f"the light ({', '.join(f'{v:.3f}' for v in np.ravel(light))} in the camera frame): "
-                          f"{error}") from error
+        shown = ", ".join(short_number(value) for value in np.ravel(light))
+        raise RenderError(f"the light ({shown} in the camera frame): {error}") from error
 
 
 def render_lambertian(

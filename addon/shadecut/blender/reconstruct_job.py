@@ -19,6 +19,7 @@ from .image_input import InputError, image_pixels, image_to_reconstruct
 from .preferences import addon_preferences
 from .mesh import MeshError, vertex_step
 from .result import TargetError, apply_maps, check_target, limited_depth_scale, result_object
+from .wording import short_number, with_article
 
 # Below this the image is black for the method: it needs shading to read slants from.
 DARK_LIMIT = 1e-4
@@ -80,7 +81,7 @@ def _sun(context, settings) -> tuple[bpy.types.Object, str]:
         return sun, f"light of the scene's only Sun '{sun.name}'"
     sun = settings.light_object
     if sun.type == "LIGHT" and sun.data.type != "SUN":
-        raise InputError(f"Light '{sun.name}' is a {sun.data.type.lower()} light: shape from shading needs the "
+        raise InputError(f"Light '{sun.name}' is {with_article(sun.data.type)} light: shape from shading needs the "
                          "parallel light of a Sun. Pick a Sun, or set Light to Estimate")
     return sun, f"light of Sun '{sun.name}'"
 
@@ -108,7 +109,8 @@ def _light(context, settings) -> tuple[Optional[np.ndarray], str]:
     try:
         return api.light_direction(light), origin
     except ValueError as error:
-        raise InputError(f"The light ({light[0]:.2f}, {light[1]:.2f}, {light[2]:.2f}) cannot be used: {error}") from error
+        shown = ", ".join(short_number(value) for value in light)
+        raise InputError(f"The light ({shown}) cannot be used: {error}") from error
 
 
 def _finite(value: float) -> bool:

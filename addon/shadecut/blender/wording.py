@@ -1,0 +1,14 @@
+"""How the add-on's messages name Blender's kinds and show numbers, so that every report reads alike."""
+
+from __future__ import annotations
+
+
+def with_article(kind: str) -> str:
+    """A Blender type name as words with their article: "POINT" -> "a point", "EMPTY" -> "an empty"."""
+    words = kind.lower().replace("_", " ")
+    return f"{'an' if words[:1] in tuple('aeiou') else 'a'} {words}"
+
+
+def short_number(value: float) -> str:
+    """A number in at most four significant digits: a value typed as 1e38 reads 1e+38, not 39 digits."""
+    return f"{value:.4g}"
