@@ -30,6 +30,7 @@ arguments, generates the dataset and renders the 3-D surfaces with Blender.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import hashlib
 import json
 import os
@@ -238,6 +239,8 @@ def main(argv: list[str]) -> int:
     args = parse_args(argv)
     start = time.monotonic()
     log = lambda line: print(line, flush=True)  # noqa: E731  (progress shows while Blender runs)
+    out = args.out.resolve()
+    new_out = not out.exists()
     try:
         methods = evaluation.check_methods(args.methods.split(",") if args.methods is not None else None)
         generated_only = [f"--{k}" for k in ("size", "shapes", "lights", "seed") if getattr(args, k) is not None]
@@ -250,14 +253,17 @@ def main(argv: list[str]) -> int:
             raise evaluation.EvaluationError(f"{', '.join(given)} apply to a synthetic dataset, which --diligent "
                                              "alone does not evaluate (add --dataset DIR)")
         objects = evaluation.find_objects(args.diligent) if args.diligent is not None else []
-        out = evaluation.prepare_output(args.out.resolve())
-        figures = evaluation.prepare_output(out / "figures")
+        evaluation.prepare_output(out)
         dataset = None
         if run_dataset:
             dataset = args.dataset if args.dataset is not None else generated_dataset(args)
             evaluation.read_manifest(dataset)
         imported = evaluation.import_objects(objects, out / "diligent", log=log) if objects else {}
+        figures = evaluation.prepare_output(out / "figures")
     except evaluation.EvaluationError as error:
+        if new_out:  # a run refused before any work leaves no empty folder of its own
+            with contextlib.suppress(OSError):
+                out.rmdir()
         print(f"eval.py: error: {error}", file=sys.stderr)
         return 2
 

@@ -19,7 +19,9 @@ Needs scipy (``scipy.io.loadmat``), imported only when a folder is read.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import shutil
 from pathlib import Path
 from typing import Iterable, Optional, Union
 
@@ -148,6 +150,27 @@ def read_photo(source: Union[os.PathLike, str], name: str, intensity) -> np.ndar
     return rgb.mean(axis=-1).astype(np.float32)
 
 
+def _import_photo(source: Path, folder: Path, name: str, layout: dict, mask: np.ndarray,
+                  normals: np.ndarray) -> dict:
+    """Writes the sample of photograph ``name`` into ``folder``; returns its manifest entry."""
+    index = layout["names"].index(name)
+    image = read_photo(source, name, layout["intensities"][index])
+    if image.shape != mask.shape:
+        raise ValueError(f"shadecut: {source / name} is {image.shape[1]} x {image.shape[0]} pixels; "
+                         f"the mask is {mask.shape[1]} x {mask.shape[0]}")
+    obj = object_name(source)
+    light = light_direction(layout["lights"][index]).tolist()
+    meta = {"id": folder.name, "shape": obj, "pixel_size": PIXEL_SIZE, "source": "DiLiGenT",
+            "citation": CITATION, "source_folder": str(source.resolve()), "source_image": name,
+            "light_index": index, "light_intensity": layout["intensities"][index].tolist(),
+            "image_rule": "mean over R, G, B of channel / light intensity, linear",
+            "camera": "perspective, nearly orthographic (focal length about 3772 px, object about 1.5 m away)"}
+    dataset_files.write_sample(folder, image=image, normals=normals, depth=None, mask=mask, light=light,
+                               albedo=None, meta=meta)
+    return {"id": folder.name, "shape": obj, "folder": folder.name, "light": light, "albedo": None,
+            "size": mask.shape[1], "seed": None, "source_image": name}
+
+
 def import_diligent(source: Union[os.PathLike, str], out: Union[os.PathLike, str],
                     images: Optional[Iterable[Union[int, str]]] = None) -> list[dict]:
     """Writes one ShadeCut sample per photograph of a DiLiGenT object folder, and a manifest.
@@ -171,24 +194,23 @@ def import_diligent(source: Union[os.PathLike, str], out: Union[os.PathLike, str
     normals = np.where(mask[..., None], normals, 0).astype(np.float32)
     obj = object_name(source)
 
-    entries = []
-    for name in chosen:
-        index = layout["names"].index(name)
-        image = read_photo(source, name, layout["intensities"][index])
-        if image.shape != mask.shape:
-            raise ValueError(f"shadecut: {source / name} is {image.shape[1]} x {image.shape[0]} pixels; "
-                             f"the mask is {mask.shape[1]} x {mask.shape[0]}")
-        sample_id = f"{obj}_{Path(name).stem}"
-        light = light_direction(layout["lights"][index]).tolist()
-        meta = {"id": sample_id, "shape": obj, "pixel_size": PIXEL_SIZE, "source": "DiLiGenT",
-                "citation": CITATION, "source_folder": str(source.resolve()), "source_image": name,
-                "light_index": index, "light_intensity": layout["intensities"][index].tolist(),
-                "image_rule": "mean over R, G, B of channel / light intensity, linear",
-                "camera": "perspective, nearly orthographic (focal length about 3772 px, object about 1.5 m away)"}
-        dataset_files.write_sample(out / sample_id, image=image, normals=normals, depth=None, mask=mask, light=light,
-                              albedo=None, meta=meta)
-        entries.append({"id": sample_id, "shape": obj, "folder": sample_id, "light": light, "albedo": None,
-                        "size": mask.shape[1], "seed": None, "source_image": name})
+    entries, new_samples, new_out = [], [], not out.exists()
+    try:
+        for name in chosen:
+            folder = out / f"{obj}_{Path(name).stem}"
+            if not folder.exists():
+                new_samples.append(folder)
+            entries.append(_import_photo(source, folder, name, layout, mask, normals))
+    except BaseException:
+        # No manifest would list what this call wrote: the samples new to ``out`` go (and ``out``, if
+        # this call made it); one that replaced a sample of the same name stays, complete, where an
+        # earlier manifest lists it.
+        for folder in new_samples:
+            shutil.rmtree(folder, ignore_errors=True)
+        if new_out:
+            with contextlib.suppress(OSError):
+                out.rmdir()
+        raise
     dataset_files.write_manifest(out, entries, {"generator": "shadecut.dataset.import_diligent", "source": "DiLiGenT",
-                                           "source_folder": str(source.resolve()), "citation": CITATION})
+                                                "source_folder": str(source.resolve()), "citation": CITATION})
     return entries

@@ -168,6 +168,21 @@ def test_a_nan_in_a_light_file_is_named_as_such_not_as_a_shape(tiny, tmp_path):
         dataset.import_diligent(source, tmp_path / "out")
 
 
+def test_a_failed_import_leaves_no_sample_that_no_manifest_lists(tiny, tmp_path):
+    """The last photograph is the wrong size: the first two samples were kept without a manifest."""
+    source, _ = tiny
+    _write_png(source / "004.png", np.zeros((2, 2, 3), np.uint16), oiio.UINT16)
+    with pytest.raises(ValueError, match="004.png is 2 x 2 pixels"):
+        dataset.import_diligent(source, tmp_path / "new")
+    assert not (tmp_path / "new").exists()
+    # Into a dataset imported before: the samples it had stay, listed by its manifest.
+    dataset.import_diligent(source, tmp_path / "earlier", images=[1])
+    with pytest.raises(ValueError, match="004.png is 2 x 2 pixels"):
+        dataset.import_diligent(source, tmp_path / "earlier")
+    assert sorted(p.name for p in (tmp_path / "earlier").iterdir()) == ["manifest.csv", "manifest.json", "tiny_001"]
+    assert dataset.check_sample(tmp_path / "earlier" / "tiny_001") is None
+
+
 def test_find_objects_accepts_an_object_or_a_folder_of_them(tiny, tmp_path):
     source, _ = tiny
     assert evaluation.find_objects(source) == [source]
