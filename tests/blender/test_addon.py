@@ -250,6 +250,41 @@ def test_sun_direction_in_a_camera_frame(addon, camera_rotation):
         np.testing.assert_allclose(light, expected, atol=1e-6)
 
 
+def brightest_normal_in_cycles(tmp_path, size=64):
+    """The normal of the brightest pixel of a unit sphere at the origin, rendered by Cycles (direct
+    light only) from the top: on a Lambertian sphere it is the direction toward the light."""
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48)
+    bpy.ops.object.shade_smooth()
+    camera = bpy.data.objects.new("Top", bpy.data.cameras.new("Top"))
+    camera.data.type, camera.data.ortho_scale, camera.location = "ORTHO", 2.0, (0, 0, 5)
+    scene.collection.objects.link(camera)
+    scene.camera, scene.render.engine = camera, "CYCLES"
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.cycles.device, scene.cycles.samples, scene.cycles.max_bounces = "CPU", 1, 0
+    scene.cycles.use_denoising = scene.view_layers[0].cycles.use_denoising = False
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.filepath = str(tmp_path / "top.exr")
+    bpy.ops.render.render(write_still=True)
+    red = pixels_of(bpy.data.images.load(scene.render.filepath)).reshape(size, size, 4)[..., 0]
+    row, col = np.unravel_index(red.argmax(), red.shape)  # row 0 at the bottom, as Blender stores it
+    x, y = (col + 0.5) * 2 / size - 1, (row + 0.5) * 2 / size - 1
+    return np.array([x, y, math.sqrt(max(0.0, 1 - x * x - y * y))])
+
+
+@pytest.mark.parametrize("aimed, scale", [((1, 0.5, 1), (-1, 1, 1)), ((1, 0.5, 1), (1, -2, 0.5)),
+                                          ((1, 0.5, -1), (1, 1, -1))])
+def test_a_mirrored_sun_gives_the_light_cycles_renders(addon, tmp_path, aimed, scale):
+    """A negative scale makes the sun's rotation a reflection, whose quaternion put the light up to 180
+    degrees off (for Reconstruct, the light preview and Render Lambertian alike). Blender lights along
+    the world matrix's Z axis: with Z mirrored, a sun aimed from below lights from above."""
+    sun = add_sun(aimed)
+    sun.scale = scale
+    bpy.context.view_layer.update()
+    light = np.array(frames.light_in_camera_frame(sun, None))
+    np.testing.assert_allclose(light, brightest_normal_in_cycles(tmp_path), atol=0.06)
+
+
 def test_estimated_light_reconstructs_the_sphere(addon, sphere_png):
     truth, path = sphere_png
     settings = bpy.context.scene.shadecut
