@@ -8,7 +8,7 @@ import pytest
 from mathutils import Euler, Vector
 
 import shadecut
-from shadecut import synthetic
+from shadecut import imaging, synthetic
 from shadecut.blender import frames, image_input, reconstruct_job
 from shadecut.blender.mesh import vertex_step
 
@@ -147,6 +147,28 @@ def test_default_working_size(addon, width, height, working):
     assert reconstruct_job.prepare_job(bpy.context).image.shape == working
 
 
+@pytest.mark.parametrize("max_size", [0, 25, 40, 70])
+def test_pixels_read_in_bands_are_those_of_the_whole_image(addon, monkeypatch, max_size):
+    """The image is converted and shrunk a band of rows at a time (so that no second full-size copy is
+    made): the same as converting the whole buffer, then shrinking it."""
+    rng = np.random.default_rng(max_size)
+    width, height = 101, 67
+    rgba = rng.random((height, width, 4)).astype(np.float32)
+    rgba[..., 3] = rgba[..., 3] > 0.2
+    image = bpy.data.images.new("noise", width, height, alpha=True, float_buffer=True)
+    image.pixels.foreach_set(rgba.ravel())
+    monkeypatch.setattr(image_input, "BAND_PIXELS", 3 * width)  # several bands, each of whole blocks
+    intensity, mask, factor = image_input.image_pixels(image, max_size)
+    stored = np.empty(len(image.pixels), np.float32)
+    image.pixels.foreach_get(stored)
+    whole = stored.reshape(height, width, image.channels)[::-1]
+    expected = imaging.downsample(*imaging.intensity_and_mask(image_input._rgba(whole), srgb_encoded=False)[:2],
+                                  max_size)
+    assert factor == expected[2]
+    np.testing.assert_array_equal(intensity, expected[0])
+    np.testing.assert_array_equal(mask, expected[1])
+
+
 def test_mesh_edges_are_those_blender_computes(addon):
     """depth_mesh numbers the edges itself instead of asking Blender (calc_edges): the same edges,
     each loop's edge joining its corner to the next, nothing for validate() to fix."""
@@ -198,6 +220,7 @@ def test_max_resolution_downsamples(addon, sphere_png):
     settings.max_resolution = 48
     job = reconstruct_job.prepare_job(bpy.context)
     assert job.image.shape == (48, 48)
+    assert job.shrunk == ", worked at 48 x 48 (1/2 of 96 x 96: Max size 48 px)"  # said in the finish report
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
     assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(job.mask)
 
@@ -216,7 +239,8 @@ def test_blender_pixels_are_the_linear_values_load_image_reads(addon, tmp_path, 
     else:
         shadecut.save_image(path, scene.image, scene.mask)
     loaded = shadecut.load_image(path)
-    intensity, mask = image_input.image_pixels(bpy.data.images.load(str(path)))
+    intensity, mask, factor = image_input.image_pixels(bpy.data.images.load(str(path)))
+    assert factor == 1
     np.testing.assert_allclose(intensity, loaded.image, atol=2e-4)
     np.testing.assert_array_equal(mask, loaded.mask)
 

@@ -4,13 +4,15 @@ and a refused, failed or cancelled run leaves the scene as it was."""
 import math
 import os
 import re
+import struct
+import zlib
 
 import bpy
 import numpy as np
 import pytest
 
 import shadecut
-from shadecut.blender import reconstruct_job, reconstruct_operator
+from shadecut.blender import image_input, reconstruct_job, reconstruct_operator
 from test_addon import LIGHT, add_sun, scene_state
 
 
@@ -57,6 +59,8 @@ def _bad_file(case, tmp_path):
         return str(tmp_path / "notes.png")
     if case == "file missing":
         return str(tmp_path / "missing.png")
+    if case == "file declaring 100000 x 100000 pixels":
+        return png_declaring(tmp_path / "huge.png", 100000, 100000)
     if case == "file named pipe":
         os.mkfifo(tmp_path / "pipe.png")
         return str(tmp_path / "pipe.png")
@@ -67,6 +71,31 @@ def _bad_file(case, tmp_path):
         bpy.data.images.load(path)  # the user's own: a failure must not remove it
         return path
     raise KeyError(case)
+
+
+def png_declaring(path, width, height):
+    """A small PNG whose header claims width x height pixels (its data is 8 x 8)."""
+    write_file(path, np.full((8, 8, 1), 128, np.uint8))
+    data = bytearray(path.read_bytes())
+    data[16:24] = struct.pack(">II", width, height)  # IHDR's width and height, then its CRC
+    data[29:33] = struct.pack(">I", zlib.crc32(bytes(data[12:29])))
+    path.write_bytes(bytes(data))
+    return str(path)
+
+
+def test_a_file_larger_than_memory_allows_is_refused_before_blender_decodes_it(addon, sphere_png, monkeypatch):
+    """The panel's image, not decoded yet: its header says how large it is (issue 30: a 250 KB PNG of
+    16000 x 16000 pixels took 11.7 GB for 27 s)."""
+    truth, path = sphere_png
+    settings = bpy.context.scene.shadecut
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    settings.image = bpy.data.images.load(str(path))
+    monkeypatch.setattr(image_input, "available_memory", lambda: 96 * 96 * image_input.READ_BYTES_PER_PIXEL - 1)
+    with pytest.raises(image_input.InputError, match="Image 'sphere.png' is 96 x 96 pixels .* about 184 KB, more than the 184 KB"):
+        reconstruct_job.prepare_job(bpy.context)
+    assert not settings.image.has_data  # refused before Blender read the pixels
+    monkeypatch.setattr(image_input, "available_memory", lambda: 96 * 96 * image_input.READ_BYTES_PER_PIXEL)
+    assert reconstruct_job.prepare_job(bpy.context).image.shape == (96, 96)
 
 
 def _error_setup(case, sphere_png, tmp_path):
@@ -169,6 +198,8 @@ def _error_setup(case, sphere_png, tmp_path):
     ("file directory", "folder.png': it is a directory, not an image file"),
     ("file not an image", "notes.png': it is not an image file Blender can read"),
     ("file missing", "missing.png': there is no such file"),
+    ("file declaring 100000 x 100000 pixels", "huge.png' is 100,000 x 100,000 pixels (its file's header says so): "
+                                              "reading it takes about 200 GB, more than the"),
     ("file named pipe", "pipe.png': it is a named pipe (FIFO), not an image file"),
     ("file device", "Cannot read '/dev/zero': it is a character device, not an image file"),
     ("file of the user's, black", "Image 'black.png' is black"),

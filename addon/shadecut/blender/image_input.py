@@ -7,6 +7,7 @@ image's colour space, row 0 at the top.
 
 from __future__ import annotations
 
+import math
 import os
 from typing import Optional
 
@@ -15,10 +16,17 @@ import numpy as np
 
 from .. import imaging
 from ..file_kinds import special_file_kind
+from ..image_header import declared_size
+from .wording import short_bytes
 
 # Colour spaces whose stored 8-bit values are linear already.
 LINEAR_SPACES = {"Linear", "Linear ACES", "Linear ACEScg", "Non-Color", "Raw", "XYZ"}
 
+# Bytes per pixel while an image file is read: Blender's own 8-bit RGBA buffer and the float RGBA
+# copy that bpy hands to Python (it offers no smaller one).
+READ_BYTES_PER_PIXEL = 4 + 16
+# Pixels converted at a time: bounds the temporary copies of a band.
+BAND_PIXELS = 1 << 22
 # Image sources that are not one still picture, as the messages name them.
 MOVING_SOURCES = {"SEQUENCE": "an image sequence", "MOVIE": "a movie"}
 
@@ -27,15 +35,21 @@ class InputError(ValueError):
     """Bad input the user can fix; the message says how."""
 
 
-def image_pixels(image: bpy.types.Image) -> tuple[np.ndarray, np.ndarray]:
-    """Linear intensity (H, W) and mask (H, W) of a Blender image, row 0 at the top.
+def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray, np.ndarray, int]:
+    """Linear intensity (h, w) and mask (h, w) of a Blender image, row 0 at the top, shrunk by the
+    whole factor that Max size ``max_size`` asks for (imaging.shrink_factor; 0 = full size), and that
+    factor.
 
     Float buffers hold scene-linear values; byte buffers hold the file's encoded values, decoded
-    here according to the image's colour space.
+    here according to the image's colour space. A file Blender has not decoded yet is first checked
+    by its header (:func:`check_declared_size`). The pixels are converted and shrunk in bands of
+    whole blocks, so that the float copy bpy hands over is the only full-size array.
     """
     if image.source in MOVING_SOURCES:  # their pixels are a frame's, or none: not "a missing file"
         raise InputError(f"Image '{image.name}' is {MOVING_SOURCES[image.source]}: ShadeCut reconstructs one still "
                          "image; set its Source to Single Image, or choose another")
+    if image.source == "FILE" and not image.has_data and image.packed_file is None:
+        check_declared_size(f"Image '{image.name}'", bpy.path.abspath(image.filepath, library=image.library))
     width, height = image.size
     if width * height == 0:
         raise InputError(f"Image '{image.name}' has no pixels (is its file missing?): reload it or choose another")
@@ -45,20 +59,73 @@ def image_pixels(image: bpy.types.Image) -> tuple[np.ndarray, np.ndarray]:
     srgb = not image.is_float and space not in LINEAR_SPACES
     if srgb and space != "sRGB":
         raise InputError(f"Image '{image.name}' is in colour space '{space}': set it to sRGB or Linear")
-    rgba = np.empty(width * height * image.channels, dtype=np.float32)
-    image.pixels.foreach_get(rgba)
-    rgba = rgba.reshape(height, width, image.channels)[::-1]
-    if image.channels != 4:
-        rgba = np.dstack([np.repeat(rgba[..., :1], 3, axis=2) if image.channels < 3 else rgba[..., :3],
-                          np.ones((height, width, 1), np.float32)])
-    intensity, mask, _ = imaging.intensity_and_mask(rgba, srgb_encoded=srgb)
-    finite = np.isfinite(intensity)
-    if not finite[mask].all():
-        bad = np.count_nonzero(~finite & mask)
+    factor = _shrink_factor(image.name, width, height, max_size)
+    stored = np.empty(width * height * image.channels, dtype=np.float32)
+    image.pixels.foreach_get(stored)
+    stored = stored.reshape(height, width, image.channels)  # row 0 at the bottom, as Blender keeps it
+    kept = height - height % factor  # the top rows: the bottom ones that fill no block are dropped
+    band = factor * max(1, BAND_PIXELS // (width * factor))
+    intensities, masks, bad = [], [], 0
+    for top in range(0, kept, band):
+        rows = min(band, kept - top)
+        intensity, mask, _ = imaging.intensity_and_mask(_rgba(stored[height - top - rows:height - top][::-1]),
+                                                        srgb_encoded=srgb)
+        finite = np.isfinite(intensity)
+        bad += np.count_nonzero(~finite & mask)
+        intensity[~finite] = 0.0  # outside the mask: unused
+        small, small_mask = imaging.shrink(intensity, mask, factor)
+        intensities.append(small)
+        masks.append(small_mask)
+    if bad:
         raise InputError(f"Image '{image.name}' has {bad} NaN or infinite pixel{'s' if bad > 1 else ''}: "
                          "shape from shading needs finite intensities")
-    intensity = np.where(finite, intensity, 0.0).astype(np.float32)  # outside the mask: unused
-    return intensity, mask
+    return np.concatenate(intensities), np.concatenate(masks), factor
+
+
+def _rgba(pixels: np.ndarray) -> np.ndarray:
+    """(rows, W, C) pixels of any channel count as contiguous RGBA: grey spread to R, G and B, opaque
+    when there is no alpha."""
+    channels = pixels.shape[2]
+    if channels == 4:
+        return np.ascontiguousarray(pixels)
+    colour = np.repeat(pixels[..., :1], 3, axis=2) if channels < 3 else pixels[..., :3]
+    return np.dstack([colour, np.ones((*pixels.shape[:2], 1), np.float32)])
+
+
+def _shrink_factor(name: str, width: int, height: int, max_size: int) -> int:
+    try:
+        return imaging.shrink_factor(height, width, max_size)
+    except ValueError as error:
+        smallest = math.ceil(max(height, width) / (min(height, width) // 2))
+        raise InputError(f"Max size {max_size} px is too small for the {width} x {height} image '{name}' "
+                         f"(fewer than 2 x 2 pixels would remain): use at least {smallest}, or 0 for full size"
+                         ) from error
+
+
+def check_declared_size(label: str, path: str) -> None:
+    """InputError before Blender decodes the file at ``path`` when the size its header declares needs
+    more memory to read than this machine has available (``label`` names it in the message)."""
+    size, available = declared_size(path), available_memory()
+    if size is None or available is None:
+        return
+    width, height = size
+    needed = width * height * READ_BYTES_PER_PIXEL
+    if needed > available:
+        raise InputError(f"{label} is {width:,} x {height:,} pixels (its file's header says so): reading it takes "
+                         f"about {short_bytes(needed)}, more than the {short_bytes(available)} of memory available. "
+                         "Shrink it in an image editor first")
+
+
+def available_memory() -> Optional[int]:
+    """Bytes of memory available for new allocations (Linux's MemAvailable), or None where unknown."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError):
+        pass
+    return None
 
 
 def load_file(filepath: str) -> tuple[bpy.types.Image, bool]:
@@ -72,6 +139,7 @@ def load_file(filepath: str) -> tuple[bpy.types.Image, bool]:
     kind = special_file_kind(path)
     if kind is not None:  # Blender would wait on a pipe forever, and read a device without end
         raise InputError(f"Cannot read '{filepath}': it is {kind}, not an image file")
+    check_declared_size(f"Image file '{filepath}'", path)
     existing = {image.as_pointer() for image in bpy.data.images}
     try:
         image = bpy.data.images.load(filepath, check_existing=True)

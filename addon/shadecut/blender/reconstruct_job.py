@@ -13,7 +13,7 @@ from typing import Optional
 import bpy
 import numpy as np
 
-from .. import api, imaging
+from .. import api
 from .frames import FrameError, light_in_camera_frame
 from .image_input import InputError, image_pixels, image_to_reconstruct
 from .preferences import addon_preferences
@@ -42,6 +42,7 @@ class Job:
     output: dict = field(default_factory=dict)  # how to build the result, read with the rest
     created_image: bool = False  # the source image was loaded by this job: removed if it fails
     image_origin: str = ""  # where an image the panel did not name came from: "the Image Texture node ..."
+    shrunk: str = ""  # how Max size shrank the image, for the finish report: ", worked at 512 x 384 (...)"
     fraction: float = 0.0
     stage: str = "starting"
     cancel: bool = False
@@ -158,17 +159,6 @@ def _check_density(name: str, mask: np.ndarray, density: int, max_vertices: int)
                      f"{height} working image of '{name}': raise the Vertex limit, or set Density to {usable} or less")
 
 
-def _working_size(name: str, image, mask, max_size: int):
-    try:
-        return imaging.downsample(image, mask, max_size)[:2]
-    except ValueError as error:
-        height, width = mask.shape
-        smallest = math.ceil(max(height, width) / (min(height, width) // 2))
-        raise InputError(f"Max size {max_size} px is too small for the {width} x {height} image '{name}' "
-                         f"(fewer than 2 x 2 pixels would remain): use at least {smallest}, or 0 for full size"
-                         ) from error
-
-
 def prepare_job(context, filepath: str = "") -> Job:
     """Reads the settings and the image into a :class:`Job`; raises InputError for bad input.
 
@@ -188,8 +178,7 @@ def prepare_job(context, filepath: str = "") -> Job:
 
 
 def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
-    image, mask = image_pixels(source)
-    image, mask = _working_size(source.name, image, mask, settings.max_resolution)
+    image, mask, factor = image_pixels(source, settings.max_resolution)
     if not mask.any():
         raise InputError(f"Image '{source.name}' is transparent everywhere: its alpha leaves no pixel to reconstruct")
     if not image[mask].max() > DARK_LIMIT:
@@ -224,7 +213,16 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
         source_image=source,
         output=_output_settings(settings, context),
         created_image=created,
+        shrunk=_shrunk(source, image.shape, factor, settings.max_resolution),
     )
+
+
+def _shrunk(source: bpy.types.Image, working: tuple[int, int], factor: int, max_size: int) -> str:
+    """What the finish report says of the working size: nothing at full size."""
+    if factor == 1:
+        return ""
+    width, height = source.size
+    return f", worked at {working[1]} x {working[0]} (1/{factor} of {width} x {height}: Max size {max_size} px)"
 
 
 def _output_settings(settings, context=None) -> dict:
@@ -254,7 +252,7 @@ def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
     operator.report({"INFO"}, f"{maps.capitalize()} of image '{job.source_image.name}' applied to "
                               f"material '{material.name}' of '{obj.name}': {job.options['method']} in "
                               f"{time.perf_counter() - job.started:.1f} s, {job.light_origin} ({light}), "
-                              f"albedo {result.albedo:.3f}")
+                              f"albedo {result.albedo:.3f}{job.shrunk}")
     return {"FINISHED"}
 
 
@@ -306,6 +304,6 @@ def finish_job(operator, context, job: Job) -> set[str]:
     source = f"image '{job.source_image.name}' from {job.image_origin}, " if job.image_origin else ""
     operator.report({"INFO"}, f"'{obj.name}': {source}{job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
                               f"{job.light_origin} ({light}), albedo {result.albedo:.3f}, "
-                              f"{len(obj.data.vertices):,} vertices (density {step})")
+                              f"{len(obj.data.vertices):,} vertices (density {step}){job.shrunk}")
     return {"FINISHED"}
 
