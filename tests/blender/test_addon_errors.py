@@ -23,6 +23,14 @@ class Reports:
         self.last = (kind, message)
 
 
+def sphere_with_its_light(sphere_png):
+    """The panel set to the sphere image (not decoded yet) and its light typed in; the settings."""
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(sphere_png[1]))
+    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    return settings
+
+
 def write_file(path, pixels):
     """Writes (H, W, C) pixels with OpenImageIO (not the library, which may refuse bad images)."""
     import OpenImageIO as oiio
@@ -86,12 +94,9 @@ def png_declaring(path, width, height):
 def test_a_file_larger_than_memory_allows_is_refused_before_blender_decodes_it(addon, sphere_png, monkeypatch):
     """The panel's image, not decoded yet: its header says how large it is (issue 30: a 250 KB PNG of
     16000 x 16000 pixels took 11.7 GB for 27 s)."""
-    truth, path = sphere_png
-    settings = bpy.context.scene.shadecut
-    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    settings.image = bpy.data.images.load(str(path))
+    settings = sphere_with_its_light(sphere_png)
     monkeypatch.setattr(image_input, "available_memory", lambda: 96 * 96 * image_input.READ_BYTES_PER_PIXEL - 1)
-    with pytest.raises(image_input.InputError, match="Image 'sphere.png' is 96 x 96 pixels .* about 184 KB, more than the 184 KB"):
+    with pytest.raises(image_input.InputError, match="'sphere.png' is 96 x 96 pixels .* 184 KB, more than the 184 KB"):
         reconstruct_job.prepare_job(bpy.context)
     assert not settings.image.has_data  # refused before Blender read the pixels
     monkeypatch.setattr(image_input, "available_memory", lambda: 96 * 96 * image_input.READ_BYTES_PER_PIXEL)
@@ -257,10 +262,7 @@ def test_a_mesh_without_faces_is_refused_before_anything_is_made(addon):
 
 
 def test_cancelling_leaves_nothing_behind(addon, sphere_png):
-    truth, path = sphere_png
-    settings = bpy.context.scene.shadecut
-    settings.image = bpy.data.images.load(str(path))
-    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    sphere_with_its_light(sphere_png)
     job = reconstruct_job.prepare_job(bpy.context)
     job.cancel = True  # what Esc sets while the worker thread runs
     job.run()
@@ -275,10 +277,7 @@ def test_cancelling_leaves_nothing_behind(addon, sphere_png):
 def test_the_worker_thread_gives_the_synchronous_result(addon, sphere_png):
     import threading
 
-    truth, path = sphere_png
-    settings = bpy.context.scene.shadecut
-    settings.image = bpy.data.images.load(str(path))
-    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    sphere_with_its_light(sphere_png)
     threaded, direct = reconstruct_job.prepare_job(bpy.context), reconstruct_job.prepare_job(bpy.context)
     worker = threading.Thread(target=threaded.run)
     worker.start()
