@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; sigint.py
+for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; sigint.py, usage.py
     if _path not in sys.path:
         sys.path.insert(0, _path)
 
@@ -49,22 +49,14 @@ import OpenImageIO as oiio  # noqa: E402  (shadecut.dataset's writer too; in Deb
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
 from shadecut import imaging  # noqa: E402
 from sigint import StopRequest  # noqa: E402
+from usage import Parser, UsageError  # noqa: E402
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr", ".hdr", ".bmp", ".tga")
 PROG = "batch.py"
 
 
-class UsageError(Exception):
-    """Bad arguments: reported with a message and exit code 2."""
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):
-        raise UsageError(message)
-
-
 def parse_args(argv: list[str]) -> argparse.Namespace:
-    parser = _Parser(prog="blender -b -P blender_scripts/batch.py --",
+    parser = Parser(prog="blender -b -P blender_scripts/batch.py --",
                      description="Reconstructs every image of IN_DIR into OUT_DIR (see the module docstring).")
     parser.add_argument("in_dir", type=Path, metavar="IN_DIR", help="folder of images")
     parser.add_argument("out_dir", type=Path, metavar="OUT_DIR", help="output folder (created if missing)")

@@ -18,7 +18,7 @@ import bpy
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; shapes.py
+for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; its helper scripts
     if _path not in sys.path:
         sys.path.insert(0, _path)
 
@@ -26,6 +26,7 @@ import shadecut  # noqa: E402  (after the path insert: the repository's package)
 from shadecut import dataset  # noqa: E402
 from shadecut.blender import lambertian  # noqa: E402
 from sigint import StopRequest  # noqa: E402
+from usage import Parser, UsageError  # noqa: E402
 from shapes import (  # noqa: E402
     BUILDERS, CATALOGUE, MESH_SUFFIXES, MeshFileError, load_mesh_file, remove_objects, shape_rng,
 )
@@ -37,17 +38,8 @@ MANIFEST_INTERVAL = 10.0  # seconds between manifest refreshes while rendering (
 PLAN_KEYS = ("shape", "light", "albedo", "size", "seed", "noise", "bits", "shadows", "indirect", "samples")
 
 
-class UsageError(Exception):
-    """Bad input: reported with a message and exit code 2."""
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):
-        raise UsageError(message)
-
-
 def parse_args(argv: list[str]) -> argparse.Namespace:
-    parser = _Parser(prog="blender -b -P blender_scripts/make_dataset.py --",
+    parser = Parser(prog="blender -b -P blender_scripts/make_dataset.py --",
                      description="Renders a synthetic Lambertian dataset with exact ground truth "
                                  "(see the module docstring).")
     parser.add_argument("--out", type=Path, required=True, help="dataset folder (created if missing)")
