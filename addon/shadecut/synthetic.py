@@ -136,7 +136,10 @@ def egg_crate(light: Sequence[float], size: int = 128, periods: float = 2.0, amp
 
 def read_depth_text(path: str | os.PathLike, size: int = 256) -> np.ndarray:
     """A size x size depth map stored as one decimal number per line, row-major, row 0 at the top."""
-    depth = np.loadtxt(path, dtype=np.float64)
+    try:
+        depth = np.loadtxt(path, dtype=np.float64)
+    except (UnicodeDecodeError, ValueError) as error:  # a picture or another binary file given by mistake
+        raise ValueError(f"shadecut: {path} is not a text file of numbers (one depth per line): {error}") from None
     if depth.size != size * size:
         raise ValueError(f"shadecut: {path} holds {depth.size} values, not {size} x {size}")
     return depth.reshape(size, size)
