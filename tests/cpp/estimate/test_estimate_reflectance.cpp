@@ -1,0 +1,117 @@
+// The paint separated from the shading (estimate_reflectance): a painted sphere's paint ratio
+// recovered, a plain sphere left plain, the colour of the paint, and bad input.
+#include "test_support.hpp"
+
+#include <shadecut/estimate/estimate_reflectance.hpp>
+#include <shadecut/pipeline/reconstruct.hpp>
+#include <shadecut/support/errors.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace shadecut {
+namespace {
+
+const Eigen::Vector3d kLight(0.3, 0.2, 1.0);
+constexpr double kLeftPaint = 0.4, kRightPaint = 0.9;
+
+// A 96-px sphere whose left half is painted kLeftPaint in red-brown and right half kRightPaint in
+// grey, rendered under kLight: (colour image, its luminance, the scene).
+struct PaintedSphere {
+  testing::Scene scene = testing::sphere_scene(96, 0.45, kLight);
+  ColourImage colour;
+  ImageF intensity;
+
+  PaintedSphere() {
+    const std::array<double, 3> left{0.6, 0.35, 0.25}, right{1.0, 1.0, 1.0};
+    for (int k = 0; k < 3; ++k) colour.channel[std::size_t(k)] = ImageF::Zero(96, 96);
+    for (Eigen::Index r = 0; r < 96; ++r) {
+      for (Eigen::Index c = 0; c < 96; ++c) {
+        const bool on_left = c < 48;
+        const std::array<double, 3>& tint = on_left ? left : right;
+        const double paint = on_left ? kLeftPaint : kRightPaint;
+        for (int k = 0; k < 3; ++k)
+          colour.channel[std::size_t(k)](r, c) = float(scene.image(r, c) * paint * tint[std::size_t(k)]);
+      }
+    }
+    intensity = luminance(colour);
+  }
+};
+
+ReflectanceParams params() { return reflectance_params(ReconstructOptions{}); }
+
+// The median of the relative reflectance over the lit masked pixels of one half.
+double median_half(const Reflectance& reflectance, const testing::Scene& scene, bool left) {
+  std::vector<float> values;
+  for (Eigen::Index r = 0; r < 96; ++r)
+    for (Eigen::Index c = left ? 0 : 48; c < (left ? 48 : 96); ++c)
+      if (scene.mask(r, c) && scene.image(r, c) > 0.1f) values.push_back(reflectance.relative(r, c));
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(values.size() / 2), values.end());
+  return values[values.size() / 2];
+}
+
+TEST(EstimateReflectance, AColourPaintStepIsRecoveredAndTheShadingLeftSmooth) {
+  const PaintedSphere painted;
+  // The luminance of the two paints: their ratio is what the reflectance must recover.
+  const double left = kLeftPaint * (0.2126 * 0.6 + 0.7152 * 0.35 + 0.0722 * 0.25), right = kRightPaint;
+  const Reflectance reflectance = estimate_reflectance(painted.intensity, &painted.colour, painted.scene.mask, params());
+  const double ratio = median_half(reflectance, painted.scene, false) / median_half(reflectance, painted.scene, true);
+  EXPECT_NEAR(ratio, right / left, 0.05 * right / left);
+  EXPECT_GT(reflectance.edge_pairs, 0);
+}
+
+TEST(EstimateReflectance, AGreyPaintStepIsReadFromTheIntensityAlone) {
+  const PaintedSphere painted;
+  const double left = kLeftPaint * (0.2126 * 0.6 + 0.7152 * 0.35 + 0.0722 * 0.25), right = kRightPaint;
+  const Reflectance reflectance = estimate_reflectance(painted.intensity, nullptr, painted.scene.mask, params());
+  const double ratio = median_half(reflectance, painted.scene, false) / median_half(reflectance, painted.scene, true);
+  EXPECT_NEAR(ratio, right / left, 0.1 * right / left);
+}
+
+// Shading never changes the colour: the colour cue alone leaves a plain sphere of one albedo exactly.
+// (The grey cue does not: near the outline a sphere's shading falls off fast enough to read as paint,
+// docs/method.md#paint-albedo_methodretinex.)
+TEST(EstimateReflectance, TheColourCueLeavesAnUnpaintedSphereOfOneAlbedo) {
+  const testing::Scene scene = testing::sphere_scene(96, 0.45, kLight);
+  ColourImage colour;
+  for (int k = 0; k < 3; ++k) colour.channel[std::size_t(k)] = scene.image * float(0.5 + 0.2 * k);
+  ReflectanceParams colour_only = params();
+  colour_only.intensity_edge = 0.0;
+  const Reflectance reflectance = estimate_reflectance(luminance(colour), &colour, scene.mask, colour_only);
+  EXPECT_EQ(reflectance.edge_pairs, 0);
+  for (Eigen::Index i = 0; i < scene.mask.size(); ++i)
+    if (scene.mask.data()[i]) EXPECT_FLOAT_EQ(reflectance.relative.data()[i], 1.0f);
+}
+
+TEST(EstimateReflectance, TheDeLitColourIsThePaintsColour) {
+  const PaintedSphere painted;
+  ReconstructOptions options;
+  options.albedo_method = AlbedoMethod::Retinex;
+  const Reconstruction result = reconstruct(painted.colour, kLight, &painted.scene.mask, std::nullopt, options);
+  ASSERT_EQ(result.albedo_colour.rows(), 96);
+  // On the left half the paint's red / green ratio, 0.6 / 0.35, whatever the shading.
+  for (Eigen::Index r = 20; r < 76; r += 7) {
+    const float red = result.albedo_colour.channel[0](r, 30), green = result.albedo_colour.channel[1](r, 30);
+    if (painted.scene.mask(r, 30) && painted.scene.image(r, 30) > 0.1f) EXPECT_NEAR(red / green, 0.6 / 0.35, 1e-3);
+  }
+}
+
+TEST(EstimateReflectance, BadInputIsRefused) {
+  const PaintedSphere painted;
+  ReflectanceParams negative_rim = params();
+  negative_rim.rim = -1;
+  EXPECT_THROW(estimate_reflectance(painted.intensity, &painted.colour, painted.scene.mask, negative_rim), InvalidArgument);
+  ColourImage small = painted.colour;
+  small.channel[2] = ImageF::Zero(4, 4);
+  EXPECT_THROW(estimate_reflectance(painted.intensity, &small, painted.scene.mask, params()), InvalidArgument);
+  ReconstructOptions options;
+  options.albedo_method = AlbedoMethod::Retinex;
+  options.retinex_chroma_edge = std::nan("");
+  EXPECT_THROW(reconstruct(painted.colour, kLight, &painted.scene.mask, std::nullopt, options), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace shadecut
