@@ -1,10 +1,12 @@
 #include <shadecut/support/errors.hpp>
 #include <shadecut/integrate/height_field_mesh.hpp>
+#include <shadecut/io/atomic_files.hpp>
 #include <shadecut/io/image_io.hpp>
 #include <shadecut/support/intensity.hpp>
 
 #include "support/enum_names.hpp"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -91,15 +93,40 @@ void require_mask_shape(const char* function, const Mask& mask, Eigen::Index row
   }
 }
 
+// Writes `size` bytes to `path` whole or not at all (write_atomically), every write checked: a full
+// disk or a file size limit is an IoError naming `path` after `failure` ("cannot write"), never a
+// short file.
+void write_bytes(const std::string& path, const void* data, std::size_t size, const std::string& failure) {
+  write_atomically(path, [&](const std::string& temporary) {
+    std::ofstream file(temporary, std::ios::binary);
+    if (!file) throw IoError(failure + " \"" + path + "\": " + std::strerror(errno));
+    file.write(static_cast<const char*>(data), std::streamsize(size));
+    file.close();
+    if (!file) throw IoError(failure + " \"" + path + "\": " + std::strerror(errno));
+  });
+}
+
 // Writes interleaved pixels whose layout and file type `spec` describes; `pixel_type` is the type of
-// `pixels` in memory.
+// `pixels` in memory. The file is encoded in memory and then written by write_bytes: OpenImageIO's PNG
+// writer, for one, reports success when the disk fills part-way, and its fragment would replace the
+// file that was there.
 void write_pixels(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc pixel_type,
                   const void* pixels) {
   auto output = OIIO::ImageOutput::create(path);
   if (!output) throw IoError("cannot write \"" + path + "\": " + OIIO::geterror());
-  if (!output->open(path, spec) || !output->write_image(pixel_type, pixels) || !output->close()) {
-    throw IoError("cannot write \"" + path + "\": " + output->geterror());
+  auto encode = [&](const std::string& target) {
+    if (!output->open(target, spec) || !output->write_image(pixel_type, pixels) || !output->close())
+      throw IoError("cannot write \"" + path + "\": " + output->geterror());
+  };
+  if (!output->supports("ioproxy")) {  // a format that can only write files: at least never half a file
+    write_atomically(path, encode);
+    return;
   }
+  std::vector<unsigned char> encoded;
+  OIIO::Filesystem::IOVecOutput memory(encoded);
+  output->set_ioproxy(&memory);
+  encode(path);
+  write_bytes(path, encoded.data(), encoded.size(), "cannot write");
 }
 
 OIIO::ImageSpec make_spec(Eigen::Index rows, Eigen::Index cols, OIIO::TypeDesc type,
@@ -321,9 +348,6 @@ void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
   }
   const Eigen::Index vertex_count = mesh.vertices.rows();
 
-  std::ofstream file(path, std::ios::binary);
-  if (!file) throw IoError("cannot write mesh \"" + path + "\": " + std::strerror(errno));
-
   std::string bytes;
   if (extension == ".ply") {
     bytes = "ply\nformat binary_little_endian 1.0\n"
@@ -354,9 +378,7 @@ void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
                                                    triangle.c + 1)));
     }
   }
-  file.write(bytes.data(), std::streamsize(bytes.size()));
-  file.close();
-  if (!file) throw IoError("cannot write mesh \"" + path + "\": the write failed");
+  write_bytes(path, bytes.data(), bytes.size(), "cannot write mesh");
 }
 
 }  // namespace shadecut
