@@ -41,6 +41,18 @@ LIGHT = (1.0, 0.0, 1.0)
         (GOOD, LIGHT, {"method": "magic"}, "unknown method"),
         (GOOD, LIGHT, {"integrator": "magic"}, "integrator"),
         (GOOD, LIGHT, {"albedo": -1.0}, "albedo"),
+        # Without a light the estimator used to read a bad albedo as "the image is dark everywhere".
+        (GOOD, None, {"albedo": -1.0}, r"the albedo must be finite and > 0; got -1"),
+        (GOOD, None, {"albedo": float("nan")}, r"the albedo must be finite and > 0; got nan"),
+        (GOOD, None, {"albedo": 0.0, "albedo_method": "retinex"}, r"the albedo must be finite and > 0"),
+        # NaN or -1 silently stopped the shadow filling, 1 or more marked every pixel as shadow.
+        (GOOD, LIGHT, {"shadow_threshold": float("nan")}, r"shadow_threshold must be in \[0, 1\)"),
+        (GOOD, LIGHT, {"shadow_threshold": -1.0}, r"shadow_threshold must be in \[0, 1\)"),
+        (GOOD, LIGHT, {"shadow_threshold": 1.0}, r"shadow_threshold must be in \[0, 1\)"),
+        (GOOD, LIGHT, {"shadow_threshold": float("inf")}, r"shadow_threshold must be in \[0, 1\) \(a fraction of the albedo\); got inf"),
+        (GOOD, LIGHT, {"highlight_threshold": float("nan")}, "highlight_threshold must be finite"),
+        (GOOD, LIGHT, {"highlight_threshold": float("inf")}, "highlight_threshold must be finite"),
+        (GOOD, LIGHT, {"viscosity_weight": -1e300}, r"viscosity_weight must be finite and >= 0; got -1e\+300$"),
         (-GOOD, LIGHT, {}, "negative"),
     ],
 )
@@ -231,3 +243,10 @@ def test_a_named_pipe_or_a_device_is_refused_without_reading_it(tmp_path):
                                    env={**os.environ, "PYTHONPATH": str(Path(shadecut.__file__).parents[1])})
         assert completed.stdout.strip() == f'cannot read image "{path}": it is {kind}, not a regular file', \
             completed.stdout + completed.stderr
+
+@pytest.mark.parametrize("albedo", [float("nan"), float("inf"), 0.0, -1.0])
+def test_estimate_light_refuses_a_bad_albedo_like_reconstruct(albedo):
+    for method in shadecut.LIGHT_METHODS:
+        with pytest.raises(ValueError, match="the albedo must be finite and > 0"):
+            shadecut.estimate_light(GOOD, method=method, albedo=albedo)
+
