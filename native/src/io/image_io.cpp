@@ -142,6 +142,15 @@ OIIO::ImageSpec make_spec(Eigen::Index rows, Eigen::Index cols, OIIO::TypeDesc t
   return spec;
 }
 
+// The words of shadecut.file_kinds, which the add-on uses where Blender reads the file.
+std::string special_file_kind(const std::filesystem::file_status& kind) {
+  if (std::filesystem::is_fifo(kind)) return "a named pipe (FIFO)";
+  if (std::filesystem::is_character_file(kind)) return "a character device";
+  if (std::filesystem::is_block_file(kind)) return "a block device";
+  if (std::filesystem::is_socket(kind)) return "a socket";
+  return "not a regular file";
+}
+
 void append_u32_le(std::string& bytes, std::uint32_t value) {
   for (int shift = 0; shift < 32; shift += 8) bytes.push_back(char((value >> shift) & 0xffu));
 }
@@ -169,8 +178,13 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
   config.attribute("oiio:UnassociatedAlpha", 1);
   require_path("load_image", path);
   std::error_code status;
-  if (std::filesystem::is_directory(path, status)) throw IoError("cannot read image \"" + path + "\": it is a folder");
-  if (!std::filesystem::exists(path, status)) throw IoError("cannot read image \"" + path + "\": there is no such file");
+  const std::filesystem::file_status kind = std::filesystem::status(path, status);
+  if (std::filesystem::is_directory(kind)) throw IoError("cannot read image \"" + path + "\": it is a folder");
+  if (!std::filesystem::exists(kind)) throw IoError("cannot read image \"" + path + "\": there is no such file");
+  // A named pipe blocks a reader until something writes to it and a device such as /dev/zero feeds
+  // it bytes without end: neither is an image, and both are refused without being opened.
+  if (!std::filesystem::is_regular_file(kind))
+    throw IoError("cannot read image \"" + path + "\": it is " + special_file_kind(kind) + ", not a regular file");
   auto input = OIIO::ImageInput::open(path, &config);
   if (!input) throw IoError("cannot read image \"" + path + "\": " + OIIO::geterror());
   const OIIO::ImageSpec spec = input->spec();
@@ -186,8 +200,15 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
                   " (max_pixels)");
   const std::size_t pixel_count = std::size_t(declared);
   std::vector<float> pixels(pixel_count * std::size_t(channels));
-  if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
-    throw IoError("cannot read image \"" + path + "\": " + input->geterror());
+  // A truncated JPEG or strip TIFF reads "successfully" with grey or black rows: the decoder's
+  // complaint is only left pending on the reader (or, from some plugins, globally).
+  OIIO::geterror();  // what opening left (formats tried and refused) is not this read's complaint
+  const bool read = input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data());
+  if (!read || input->has_error() || OIIO::has_error()) {
+    std::string reason = input->geterror();
+    const std::string global = OIIO::geterror();
+    if (reason.empty()) reason = global.empty() ? "the file is damaged or truncated" : global;
+    throw IoError("cannot read image \"" + path + "\": " + reason);
   }
 
   int alpha = channels > 1 ? spec.alpha_channel : -1;
