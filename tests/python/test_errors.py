@@ -250,3 +250,8 @@ def test_estimate_light_refuses_a_bad_albedo_like_reconstruct(albedo):
         with pytest.raises(ValueError, match="the albedo must be finite and > 0"):
             shadecut.estimate_light(GOOD, method=method, albedo=albedo)
 
+
+def test_the_default_pixel_limit_is_the_core_s_for_the_add_on():
+    """The add-on ships _core without _imageio; the limit load_image applies is readable from both."""
+    from shadecut import _core, _imageio
+    assert _core.DEFAULT_MAX_PIXELS == _imageio.DEFAULT_MAX_PIXELS == 2**28

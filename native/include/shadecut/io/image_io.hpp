@@ -1,6 +1,7 @@
 // Image, depth, normal and mesh files through OpenImageIO (and plain text for meshes).
 #pragma once
 
+#include <shadecut/support/intensity.hpp>
 #include <shadecut/support/types.hpp>
 
 #include <cstdint>
@@ -18,9 +19,6 @@ enum class ColorSpace {
 /// Parses "auto", "linear" or "srgb"; throws InvalidArgument otherwise.
 ColorSpace parse_color_space(const std::string& name);
 
-/// The largest image load_image reads by default: 2^28 pixels (16384 x 16384), about 1 GB per
-/// channel as floats.
-constexpr std::int64_t kDefaultMaxPixels = std::int64_t(1) << 28;
 /// More channels than this is no photograph.
 constexpr int kMaxChannels = 64;
 
