@@ -231,6 +231,14 @@ void bind_reconstruct(py::module_& m) {
             const py::object answer = callback(fraction, stage);
             return answer.is_none() || PyObject_IsTrue(answer.ptr()) == 1;
           };
+        } else {
+          // Python runs its Ctrl+C handler only between bytecodes, never during this call: without a
+          // callback of the caller's, whose Python code would run it, the reports ask for it here.
+          options.progress = [](double, const std::string&) {
+            py::gil_scoped_acquire gil;
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+            return true;
+          };
         }
         std::optional<Eigen::Vector3d> light_vector;
         if (light) light_vector = to_vector3(*light, "light");
