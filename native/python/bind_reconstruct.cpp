@@ -35,10 +35,13 @@ T cast_option(const char* name, const py::object& value, const T& current) {
   try {
     return value.cast<T>();
   } catch (const py::cast_error&) {
-    throw py::type_error("shadecut: option '" + std::string(name) + "' cannot be " + py::repr(value).cast<std::string>() +
-                         " (" + py::type::of(value).attr("__name__").cast<std::string>() + "); it is now " +
-                         py::repr(py::cast(current)).template cast<std::string>());
+  } catch (const py::reference_cast_error&) {
+    // None for an enum: escaping the setter, pybind11 would take it for a call of the wrong overload
+    // and say only "incompatible function arguments".
   }
+  throw py::type_error("shadecut: option '" + std::string(name) + "' cannot be " + py::repr(value).cast<std::string>() +
+                       " (" + py::type::of(value).attr("__name__").cast<std::string>() + "); it is now " +
+                       py::repr(py::cast(current)).template cast<std::string>());
 }
 
 // An enum option, or an optional one (unset = None), that also takes its name as a string; the

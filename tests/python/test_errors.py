@@ -255,3 +255,23 @@ def test_the_default_pixel_limit_is_the_core_s_for_the_add_on():
     """The add-on ships _core without _imageio; the limit load_image applies is readable from both."""
     from shadecut import _core, _imageio
     assert _core.DEFAULT_MAX_PIXELS == _imageio.DEFAULT_MAX_PIXELS == 2**28
+
+
+@pytest.mark.parametrize("name", ["method", "integrator", "scene", "albedo_method"])
+def test_an_enum_option_given_none_names_the_option(name):
+    """pybind11 took the enum's failed cast of None for a wrong overload: "incompatible function arguments"."""
+    with pytest.raises(TypeError, match=f"shadecut: option '{name}' cannot be None"):
+        shadecut.reconstruct(GOOD, LIGHT, **{name: None})
+
+
+@pytest.mark.parametrize("call", [
+    lambda: shadecut.render(np.zeros((2**31, 0, 3), np.float32), LIGHT),
+    lambda: shadecut.render(np.zeros((2**31, 0), np.float32), LIGHT),
+    lambda: shadecut.fold_back_facing(np.zeros((2**31, 0, 3), np.float32)),
+    lambda: shadecut.erode_mask(np.zeros((2**31, 0), bool), 1),
+    lambda: shadecut.mask_components(np.zeros((2**31, 0), bool)),
+])
+def test_a_side_beyond_a_32_bit_count_is_refused_not_wrapped(call):
+    """An empty array can have 2^31 rows; the core counts them in int, where they wrapped negative."""
+    with pytest.raises(ValueError, match="2147483648 x 0 pixels; a side may have at most 2147483647"):
+        call()
