@@ -212,17 +212,17 @@ void write_outputs(const std::filesystem::path& out, const shadecut::Reconstruct
     std::filesystem::create_directories(out);
     std::vector<std::string> paths;
     for (const std::string& name : kOutputNames) paths.push_back(staged.stage((out / name).string()));
-    auto write = [&](std::size_t index, auto&& save) {
+    auto save_staged = [&](std::size_t index, auto&& save) {
       if (interrupted) throw Interrupted("interrupted: " + none_written + "; the files there are unchanged");
       save(paths[index]);
     };
-    write(0, [&](const std::string& path) { shadecut::save_depth(path, result.depth, result.mask); });
-    write(1, [&](const std::string& path) { shadecut::save_depth(path, result.depth, result.mask); });
-    write(2, [&](const std::string& path) { shadecut::save_normals(path, result.normals, result.mask); });
-    write(3, [&](const std::string& path) { shadecut::save_normals(path, result.normals, result.mask); });
-    write(4, [&](const std::string& path) { shadecut::save_mesh(path, result.depth, result.mask); });
+    save_staged(0, [&](const std::string& path) { shadecut::save_depth(path, result.depth, result.mask); });
+    save_staged(1, [&](const std::string& path) { shadecut::save_depth(path, result.depth, result.mask); });
+    save_staged(2, [&](const std::string& path) { shadecut::save_normals(path, result.normals, result.mask); });
+    save_staged(3, [&](const std::string& path) { shadecut::save_normals(path, result.normals, result.mask); });
+    save_staged(4, [&](const std::string& path) { shadecut::save_mesh(path, result.depth, result.mask); });
     for (std::size_t index : {5, 6}) {
-      write(index, [&](const std::string& path) {
+      save_staged(index, [&](const std::string& path) {
         if (colour) shadecut::save_image(path, result.albedo_colour, &result.mask);
         else shadecut::save_image(path, result.albedo_map, &result.mask);
       });
