@@ -14,7 +14,6 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 
 from .compatibility import core_problem
-from .file_kinds import special_file_kind
 
 try:
     from . import _core
@@ -255,16 +254,13 @@ def load_image(path: str | os.PathLike, color_space: str = "auto", max_pixels: O
     8/16-bit PNG, TIFF, JPEG and float EXR among others. ``color_space="auto"``: float files are
     linear, integer files sRGB unless they say they are linear. Colour becomes Rec. 709 luminance
     (``image``) and is kept as linear RGB (``colour``, None for a grey file); alpha becomes the mask.
-    Raises OSError for a missing or unreadable file, for a path that is not a regular file (a named
-    pipe, a device) without opening it, and before reading any pixel for one whose header declares
-    more than ``max_pixels`` pixels (None = 2^28).
+    Raises OSError for a missing, unreadable or truncated file, for a path that is not a regular
+    file (a named pipe, a device) without opening it, and before reading any pixel for one whose
+    header declares more than ``max_pixels`` pixels (None = 2^28).
     """
     files = _image_files()
     # A header's width and height are 32-bit, so a limit above 2^63 (the reader's integer) is no limit.
     limit = files.DEFAULT_MAX_PIXELS if max_pixels is None else min(int(max_pixels), 2**63 - 1)
-    kind = special_file_kind(path)
-    if kind is not None:
-        raise OSError(f'cannot read image "{os.fspath(path)}": it is {kind}, not a regular file')
     image, mask, has_alpha, color_space_used, colour = files.load_image(os.fspath(path), color_space, limit)
     return LoadedImage(image=image, mask=mask, has_alpha=has_alpha, color_space=color_space_used, colour=colour)
 

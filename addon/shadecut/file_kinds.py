@@ -1,8 +1,9 @@
 """What kind of file a path names, for the readers that must refuse anything but a regular file.
 
 A named pipe blocks a reader forever (until something writes to it) and a device such as /dev/zero
-feeds it bytes without end: neither is an image. Used by ``shadecut.load_image`` and by the add-on's
-file path (which Blender would read), so both refuse the same paths. No ``bpy`` here.
+feeds it bytes without end: neither is an image. Used by the add-on's file path, which Blender reads;
+``shadecut.load_image`` and the command line read through the C++ ``load_image``, which refuses the
+same paths in the same words. No ``bpy`` here.
 """
 
 from __future__ import annotations

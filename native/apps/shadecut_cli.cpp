@@ -1,10 +1,12 @@
 // shadecut: reconstruct one image file into depth, normal and mesh files, without Blender.
 #include <shadecut/support/errors.hpp>
 #include <shadecut/estimate/estimate_light.hpp>
+#include <shadecut/io/atomic_files.hpp>
 #include <shadecut/io/image_io.hpp>
 #include <shadecut/integrate/integrate.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 
+#include <csignal>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -15,6 +17,7 @@
 #include <new>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -84,11 +87,50 @@ options:
   return text.str();
 }
 
-[[noreturn]] void fail(const std::string& message) {
+// Ctrl+C (or a termination request) asks the run to stop where it can end cleanly: the progress
+// callback cancels the reconstruction, and the output files are written all or none.
+// The signal's number once one came, else 0; a run it stops exits with 128 + that number, as the
+// shell reports a process the signal ended.
+volatile std::sig_atomic_t interrupted = 0;
+
+void note_interruption(int signal_number) { interrupted = signal_number; }
+
+// A run stopped by Ctrl+C; what it says is what was left as it was.
+struct Interrupted : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void catch_interruptions() {
+  struct sigaction action {};
+  action.sa_handler = note_interruption;
+  sigemptyset(&action.sa_mask);
+  // A second Ctrl+C ends the process at once, for a user who will not wait for a clean stop.
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+// Whether a progress line without its newline is on standard error: a message must start below it.
+bool progress_line_open = false;
+
+[[noreturn]] void stop(const std::string& message, int exit_code) {
   // Library errors already name their origin.
   const bool prefixed = message.rfind("shadecut:", 0) == 0;
-  std::cerr << (prefixed ? "" : "shadecut: ") << message << "\n(run 'shadecut --help' for usage)\n";
-  std::exit(2);
+  std::cerr << (progress_line_open ? "\n" : "") << (prefixed ? "" : "shadecut: ") << message << "\n";
+  std::exit(exit_code);
+}
+
+[[noreturn]] void fail(const std::string& message) { stop(message + "\n(run 'shadecut --help' for usage)", 2); }
+
+// The whole of `text` as a finite number; nothing for "1x", "", "nan" or "1e999".
+std::optional<double> finite_number(const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(value)) return value;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
 }
 
 Eigen::Vector3d parse_light(const std::string& text) {
@@ -96,46 +138,104 @@ Eigen::Vector3d parse_light(const std::string& text) {
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) {
-    try {
-      values.push_back(std::stod(item));
-    } catch (const std::exception&) {
-      fail("--light takes three numbers X,Y,Z; got '" + text + "'");
-    }
+    const std::optional<double> value = finite_number(item);
+    if (!value) fail("--light takes three numbers X,Y,Z; got '" + text + "'");
+    values.push_back(*value);
   }
   if (values.size() != 3) fail("--light takes three numbers X,Y,Z; got '" + text + "'");
   return {values[0], values[1], values[2]};
 }
 
 double parse_number(const std::string& flag, const std::string& text) {
+  const std::optional<double> value = finite_number(text);
+  if (!value) fail(flag + " takes a finite number; got '" + text + "'");
+  return *value;
+}
+
+// The whole of `text` as a whole number in [low, high]; the message gives the range.
+std::int64_t parse_whole_number(const std::string& flag, const std::string& text, std::int64_t low, std::int64_t high) {
   try {
     std::size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used == text.size() && std::isfinite(value)) return value;
+    const long long value = std::stoll(text, &used);
+    if (used == text.size() && value >= low && value <= high) return value;
   } catch (const std::exception&) {
   }
-  fail(flag + " takes a finite number; got '" + text + "'");
+  fail(flag + " takes a whole number from " + std::to_string(low) + " to " + std::to_string(high) + "; got '" + text + "'");
 }
 
 int parse_integer(const std::string& flag, const std::string& text) {
-  try {
-    std::size_t used = 0;
-    const long value = std::stol(text, &used);
-    if (used == text.size() && value >= std::numeric_limits<int>::min() && value <= std::numeric_limits<int>::max())
-      return int(value);
-  } catch (const std::exception&) {
-  }
-  fail(flag + " takes a whole number; got '" + text + "'");
+  return int(parse_whole_number(flag, text, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
 }
 
 // Fails now, not after the reconstruction, when the output folder cannot be made or written; makes
 // nothing, so that a failed run leaves nothing behind.
 void check_output_folder(const std::filesystem::path& folder) {
+  if (folder.empty()) fail("--out is empty: give a folder");
   std::filesystem::path existing = std::filesystem::absolute(folder);
   while (!std::filesystem::exists(existing) && existing.has_parent_path() && existing != existing.parent_path())
     existing = existing.parent_path();
   if (std::filesystem::exists(existing) && !std::filesystem::is_directory(existing))
     fail("--out: '" + existing.string() + "' is a file, not a folder");
   if (::access(existing.c_str(), W_OK | X_OK) != 0) fail("--out: cannot write into '" + existing.string() + "'");
+}
+
+const std::vector<std::string> kOutputNames{"depth.exr", "depth.png", "normals.exr", "normals.png",
+                                           "mesh.ply", "albedo.exr", "albedo.png"};
+
+std::string output_names() {
+  std::string text;
+  for (const std::string& name : kOutputNames) text += (text.empty() ? "" : ", ") + name;
+  return text;
+}
+
+// The folders create_directories(folder) would make, deepest first: what a failed run removes again.
+std::vector<std::filesystem::path> missing_folders(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> missing;
+  std::error_code status;
+  for (std::filesystem::path path = std::filesystem::absolute(folder).lexically_normal();
+       !path.empty() && !std::filesystem::exists(path, status) && path != path.parent_path(); path = path.parent_path())
+    missing.push_back(path);
+  return missing;
+}
+
+void remove_if_empty(const std::vector<std::filesystem::path>& folders) {
+  std::error_code ignored;  // a folder someone else filled meanwhile stays
+  for (const std::filesystem::path& folder : folders) std::filesystem::remove(folder, ignored);
+}
+
+// Writes the files of kOutputNames all or none: each under a temporary name, then all renamed, so
+// that a full disk, a read-only file or Ctrl+C part-way leaves the folder's earlier results whole.
+void write_outputs(const std::filesystem::path& out, const shadecut::Reconstruction& result, bool colour) {
+  const std::string none_written = "wrote none of " + output_names() + " to " + out.string();
+  shadecut::StagedFiles staged;
+  try {
+    std::filesystem::create_directories(out);
+    std::vector<std::string> paths;
+    for (const std::string& name : kOutputNames) paths.push_back(staged.stage((out / name).string()));
+    auto save_staged = [&](std::size_t index, auto&& save) {
+      if (interrupted) throw Interrupted("interrupted: " + none_written + "; the files there are unchanged");
+      save(paths[index]);
+    };
+    save_staged(0, [&](const std::string& path) { shadecut::save_depth(path, result.depth, result.mask); });
+    save_staged(1, [&](const std::string& path) { shadecut::save_depth(path, result.depth, result.mask); });
+    save_staged(2, [&](const std::string& path) { shadecut::save_normals(path, result.normals, result.mask); });
+    save_staged(3, [&](const std::string& path) { shadecut::save_normals(path, result.normals, result.mask); });
+    save_staged(4, [&](const std::string& path) { shadecut::save_mesh(path, result.depth, result.mask); });
+    for (std::size_t index : {5, 6}) {
+      save_staged(index, [&](const std::string& path) {
+        if (colour) shadecut::save_image(path, result.albedo_colour, &result.mask);
+        else shadecut::save_image(path, result.albedo_map, &result.mask);
+      });
+    }
+    if (interrupted) throw Interrupted("interrupted: " + none_written + "; the files there are unchanged");
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw shadecut::IoError(none_written + ": not enough memory; the files there are unchanged");
+  } catch (const std::exception& error) {
+    throw shadecut::IoError(none_written + ": " + error.what() + "; the files there are unchanged");
+  }
+  staged.commit();
 }
 
 }  // namespace
@@ -179,8 +279,7 @@ int main(int argc, char** argv) {
       } else if (arg == "--integrator") {
         options.integrator = shadecut::parse_integrator(value());
       } else if (arg == "--max-pixels") {
-        max_pixels = parse_integer(arg, value());
-        if (max_pixels < 1) fail("--max-pixels takes a positive whole number");
+        max_pixels = parse_whole_number(arg, value(), 1, std::numeric_limits<std::int64_t>::max());
       } else if (arg == "--color-space") {
         color_space = value();
       } else if (arg == "--tolerance") {
@@ -214,29 +313,29 @@ int main(int argc, char** argv) {
     if (image_path.empty()) fail("no image given");
 
     check_output_folder(out_dir);
+    catch_interruptions();
     const shadecut::LoadedImage input = shadecut::load_image(image_path, shadecut::parse_color_space(color_space), max_pixels);
-    if (!quiet) {
-      options.progress = [](double fraction, const std::string& stage) {
+    // Reports even when quiet: the answer is what stops the reconstruction on Ctrl+C.
+    options.progress = [quiet](double fraction, const std::string& stage) {
+      if (!quiet) {
         std::fprintf(stderr, "\r%-12s %5.1f%%", stage.c_str(), 100.0 * fraction);
-        if (fraction >= 1.0) std::fprintf(stderr, "\n");
-        return true;
-      };
-    }
+        progress_line_open = fraction < 1.0;
+        if (!progress_line_open) std::fprintf(stderr, "\n");
+      }
+      return interrupted == 0;
+    };
     const bool colour = input.colour.channel[0].size() > 0;
     const shadecut::Reconstruction result =
         colour ? shadecut::reconstruct(input.colour, light, &input.mask, albedo, options)
                : shadecut::reconstruct(input.intensity, light, &input.mask, albedo, options);
 
-    std::filesystem::create_directories(out_dir);
     const std::filesystem::path out(out_dir);
-    shadecut::save_depth((out / "depth.exr").string(), result.depth, result.mask);
-    shadecut::save_depth((out / "depth.png").string(), result.depth, result.mask);
-    shadecut::save_normals((out / "normals.exr").string(), result.normals, result.mask);
-    shadecut::save_normals((out / "normals.png").string(), result.normals, result.mask);
-    shadecut::save_mesh((out / "mesh.ply").string(), result.depth, result.mask);
-    for (const char* name : {"albedo.exr", "albedo.png"}) {
-      if (colour) shadecut::save_image((out / name).string(), result.albedo_colour, &result.mask);
-      else shadecut::save_image((out / name).string(), result.albedo_map, &result.mask);
+    const std::vector<std::filesystem::path> made = missing_folders(out);
+    try {
+      write_outputs(out, result, colour);
+    } catch (...) {
+      remove_if_empty(made);
+      throw;
     }
 
     const Eigen::Vector3d& used = result.light;
@@ -245,8 +344,12 @@ int main(int argc, char** argv) {
               << "\nmethod " << shadecut::to_string(options.method) << ", albedo " << result.albedo << ", "
               << result.stats.cycles << " cycles, " << result.stats.moves << " moves, "
               << result.stats.seconds.at("total") << " s\n"
-              << "wrote depth.exr depth.png normals.exr normals.png mesh.ply albedo.exr albedo.png to " << out.string() << "\n";
+              << "wrote " << output_names() << " to " << out.string() << "\n";
     return 0;
+  } catch (const Interrupted& e) {
+    stop(e.what(), 128 + interrupted);
+  } catch (const shadecut::Cancelled&) {
+    stop("interrupted: nothing written", 128 + interrupted);
   } catch (const shadecut::InvalidArgument& e) {
     fail(e.what());
   } catch (const shadecut::IoError& e) {

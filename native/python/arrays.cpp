@@ -2,6 +2,7 @@
 
 #include <shadecut/support/errors.hpp>
 
+#include <climits>
 #include <cstring>
 #include <string>
 
@@ -17,11 +18,20 @@ std::string shape_of(const py::array& a) {
   return s + (a.ndim() == 1 ? ",)" : ")");
 }
 
+// The core counts rows and columns in int: a side beyond it (possible in an array of zero size,
+// 2^31 x 0) would wrap to a negative count.
+void require_int_sides(const py::array& a, const std::string& what) {
+  if (a.shape(0) > INT_MAX || a.shape(1) > INT_MAX)
+    throw InvalidArgument("shadecut: the " + what + " is " + std::to_string(a.shape(0)) + " x " + std::to_string(a.shape(1)) +
+                          " pixels; a side may have at most " + std::to_string(INT_MAX));
+}
+
 }  // namespace
 
 ImageF to_image(const FloatArray& a, const char* what) {
   if (a.ndim() != 2)
     throw InvalidArgument(std::string("shadecut: the ") + what + " must be a 2-D array (H, W); got shape " + shape_of(a));
+  require_int_sides(a, what);
   ImageF image(a.shape(0), a.shape(1));
   std::memcpy(image.data(), a.data(), sizeof(float) * std::size_t(image.size()));
   return image;
@@ -30,6 +40,7 @@ ImageF to_image(const FloatArray& a, const char* what) {
 ColourImage to_colour(const FloatArray& a, const char* what) {
   if (a.ndim() != 3 || a.shape(2) != 3)
     throw InvalidArgument(std::string("shadecut: the ") + what + " must be (H, W) or (H, W, 3); got shape " + shape_of(a));
+  require_int_sides(a, what);
   ColourImage colour;
   const float* data = a.data();
   for (int k = 0; k < 3; ++k) {
@@ -52,6 +63,7 @@ pybind11::object from_colour(const ColourImage& colour) {
 std::optional<Mask> to_mask(const std::optional<BoolArray>& a) {
   if (!a) return std::nullopt;
   if (a->ndim() != 2) throw InvalidArgument("shadecut: the mask must be a 2-D array (H, W); got shape " + shape_of(*a));
+  require_int_sides(*a, "mask");
   Mask mask(a->shape(0), a->shape(1));
   std::memcpy(mask.data(), a->data(), std::size_t(mask.size()));
   return mask;
@@ -65,6 +77,7 @@ Mask mask_or_all(const std::optional<BoolArray>& array, Eigen::Index rows, Eigen
 NormalMap to_normals(const FloatArray& a) {
   if (a.ndim() != 3 || a.shape(2) != 3)
     throw InvalidArgument("shadecut: normals must be an (H, W, 3) array; got shape " + shape_of(a));
+  require_int_sides(a, "normal map");
   NormalMap normals(int(a.shape(0)), int(a.shape(1)));
   std::memcpy(normals.xyz.data(), a.data(), sizeof(float) * std::size_t(normals.xyz.size()));
   return normals;

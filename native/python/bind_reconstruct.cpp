@@ -36,10 +36,13 @@ T cast_option(const char* name, const py::object& value, const T& current) {
   try {
     return value.cast<T>();
   } catch (const py::cast_error&) {
-    throw py::type_error("shadecut: option '" + std::string(name) + "' cannot be " + py::repr(value).cast<std::string>() +
-                         " (" + py::type::of(value).attr("__name__").cast<std::string>() + "); it is now " +
-                         py::repr(py::cast(current)).template cast<std::string>());
+  } catch (const py::reference_cast_error&) {
+    // None for an enum: escaping the setter, pybind11 would take it for a call of the wrong overload
+    // and say only "incompatible function arguments".
   }
+  throw py::type_error("shadecut: option '" + std::string(name) + "' cannot be " + py::repr(value).cast<std::string>() +
+                       " (" + py::type::of(value).attr("__name__").cast<std::string>() + "); it is now " +
+                       py::repr(py::cast(current)).template cast<std::string>());
 }
 
 // An enum option, or an optional one (unset = None), that also takes its name as a string; the
@@ -229,6 +232,14 @@ void bind_reconstruct(py::module_& m) {
             py::gil_scoped_acquire gil;
             const py::object answer = callback(fraction, stage);
             return answer.is_none() || PyObject_IsTrue(answer.ptr()) == 1;
+          };
+        } else {
+          // Python runs its Ctrl+C handler only between bytecodes, never during this call: without a
+          // callback of the caller's, whose Python code would run it, the reports ask for it here.
+          options.progress = [](double, const std::string&) {
+            py::gil_scoped_acquire gil;
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+            return true;
           };
         }
         std::optional<Eigen::Vector3d> light_vector;

@@ -44,6 +44,8 @@ PYBIND11_MODULE(_core, m) {
   });
 
   bind_reconstruct(m);
+  // The add-on, which has no _imageio, refuses a file's header above the library's own limit.
+  m.attr("DEFAULT_MAX_PIXELS") = shadecut::kDefaultMaxPixels;
   m.attr("METHODS") = py::tuple(py::cast(shadecut::method_names()));
   m.attr("LIGHT_METHODS") = py::tuple(py::cast(shadecut::light_method_names()));
 

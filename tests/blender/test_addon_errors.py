@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import shadecut
+from shadecut import _core
 from shadecut.blender import image_input, reconstruct_job, reconstruct_operator
 from test_addon import LIGHT, add_sun, scene_state
 
@@ -101,6 +102,17 @@ def test_a_file_larger_than_memory_allows_is_refused_before_blender_decodes_it(a
     assert not settings.image.has_data  # refused before Blender read the pixels
     monkeypatch.setattr(image_input, "available_memory", lambda: 96 * 96 * image_input.READ_BYTES_PER_PIXEL)
     assert reconstruct_job.prepare_job(bpy.context).image.shape == (96, 96)
+
+
+def test_a_file_above_the_library_s_pixel_limit_is_refused_before_blender_decodes_it(addon, tmp_path, monkeypatch):
+    """Even with the memory to read it: the add-on refuses what shadecut.load_image would."""
+    monkeypatch.setattr(image_input, "available_memory", lambda: 1 << 50)
+    side = math.isqrt(_core.DEFAULT_MAX_PIXELS) + 1
+    path = png_declaring(tmp_path / "large.png", side, side)
+    with pytest.raises(image_input.InputError, match=f"is {side:,} x {side:,} pixels .*, more than the "
+                                                     f"{_core.DEFAULT_MAX_PIXELS:,} ShadeCut reads from a file"):
+        image_input.check_declared_size("Image file 'large.png'", path)
+    image_input.check_declared_size("Image file 'large.png'", png_declaring(tmp_path / "fits.png", side - 1, side - 1))
 
 
 def _error_setup(case, sphere_png, tmp_path):

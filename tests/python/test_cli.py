@@ -1,5 +1,6 @@
 """The command-line tool reads an image file and writes depth, normals and a mesh."""
 
+import signal
 import subprocess
 from pathlib import Path
 
@@ -76,3 +77,72 @@ def test_the_paper_s_energy_alone_from_the_command_line(tmp_path):
         np.testing.assert_allclose(shadecut.load_image(out / "depth.exr").image, expected, atol=1e-4)
     bad = run(tmp_path / "bumps.exr", "--light", "1,0,1", "--viscosity-weight", -1, "--out", tmp_path / "bad")
     assert bad.returncode == 2 and "viscosity_weight" in bad.stderr
+
+
+OUTPUTS = ("depth.exr", "depth.png", "normals.exr", "normals.png", "mesh.ply", "albedo.exr", "albedo.png")
+
+
+def test_a_write_that_fails_part_way_keeps_every_old_file(tmp_path, file_size_limit):
+    """The files were written in place one after another: a full disk part-way left new depth beside
+    old normals and a truncated mesh. Now all are written under temporary names and renamed at the
+    end, or none. The disk fills just below the mesh's size (the same mask, so the same size)."""
+    out = tmp_path / "out"
+    for light in ("1,0,1", "0,1,1"):
+        sphere = synthetic.sphere(tuple(map(float, light.split(","))), size=64)
+        shadecut.save_image(tmp_path / f"{light}.png", sphere.image, sphere.mask)
+    assert run(tmp_path / "1,0,1.png", "--light", "1,0,1", "--out", out, "--quiet").returncode == 0
+    old = {name: (out / name).read_bytes() for name in OUTPUTS}
+    failed = subprocess.run([str(CLI), str(tmp_path / "0,1,1.png"), "--light", "0,1,1", "--out", str(out), "--quiet"],
+                            capture_output=True, text=True, timeout=120,
+                            preexec_fn=file_size_limit(len(old["mesh.ply"]) - 1))
+    assert failed.returncode == 2, failed.stderr
+    assert f"wrote none of {', '.join(OUTPUTS)} to {out}" in failed.stderr
+    assert "the files there are unchanged" in failed.stderr
+    assert {name: (out / name).read_bytes() for name in OUTPUTS} == old
+    assert sorted(entry.name for entry in out.iterdir()) == sorted(OUTPUTS)
+
+
+def test_a_failed_write_removes_the_folders_it_made(tmp_path, file_size_limit):
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=64)
+    shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)
+    failed = subprocess.run([str(CLI), str(tmp_path / "sphere.png"), "--light", "1,0,1", "--quiet",
+                             "--out", str(tmp_path / "new" / "out")],
+                            capture_output=True, text=True, timeout=120, preexec_fn=file_size_limit(4096))
+    assert failed.returncode == 2 and "wrote none of" in failed.stderr, failed.stderr
+    assert sorted(entry.name for entry in tmp_path.iterdir()) == ["sphere.png"]
+
+
+def test_ctrl_c_stops_the_reconstruction_and_writes_nothing(tmp_path):
+    """Ctrl+C killed the tool wherever it was; now the reconstruction stops at its next progress
+    report, nothing is written and the exit code is the shell's for SIGINT."""
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=512)
+    shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)
+    process = subprocess.Popen([str(CLI), str(tmp_path / "sphere.png"), "--light", "1,0,1", "--out",
+                                str(tmp_path / "out")], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        assert process.stderr.read(1) == b"\r"  # the first progress line: the reconstruction has started
+        process.send_signal(signal.SIGINT)
+        _, stderr = process.communicate(timeout=30)
+    finally:
+        process.kill()
+    assert process.returncode == 128 + signal.SIGINT, stderr
+    assert b"\nshadecut: interrupted: nothing written" in stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_arguments_are_read_whole_and_numbers_printed_short(tmp_path):
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=32)
+    shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)
+    image = tmp_path / "sphere.png"
+    glued = run(image, "--light", "1x,0,1")
+    assert glued.returncode == 2 and "--light takes three numbers" in glued.stderr
+    assert run(image, "--light", "1,0,1", "--max-pixels", "99999999999999", "--quiet",
+               "--out", tmp_path / "big").returncode == 0
+    zero = run(image, "--max-pixels", "0")
+    assert zero.returncode == 2 and "--max-pixels takes a whole number from 1 to" in zero.stderr
+    empty = run(image, "--out", "")
+    assert empty.returncode == 2 and "--out is empty" in empty.stderr
+    bright = run(image, "--albedo", "1e300", "--out", tmp_path / "bright")
+    assert bright.returncode == 2 and "1e+300" in bright.stderr and len(bright.stderr) < 400, bright.stderr
+    # The message starts a line of its own, not the end of the progress line before it.
+    assert any(line.startswith("shadecut: ") for line in bright.stderr.split("\n")), bright.stderr

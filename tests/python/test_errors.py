@@ -41,6 +41,18 @@ LIGHT = (1.0, 0.0, 1.0)
         (GOOD, LIGHT, {"method": "magic"}, "unknown method"),
         (GOOD, LIGHT, {"integrator": "magic"}, "integrator"),
         (GOOD, LIGHT, {"albedo": -1.0}, "albedo"),
+        # Without a light the estimator used to read a bad albedo as "the image is dark everywhere".
+        (GOOD, None, {"albedo": -1.0}, r"the albedo must be finite and > 0; got -1"),
+        (GOOD, None, {"albedo": float("nan")}, r"the albedo must be finite and > 0; got nan"),
+        (GOOD, None, {"albedo": 0.0, "albedo_method": "retinex"}, r"the albedo must be finite and > 0"),
+        # NaN or -1 silently stopped the shadow filling, 1 or more marked every pixel as shadow.
+        (GOOD, LIGHT, {"shadow_threshold": float("nan")}, r"shadow_threshold must be in \[0, 1\)"),
+        (GOOD, LIGHT, {"shadow_threshold": -1.0}, r"shadow_threshold must be in \[0, 1\)"),
+        (GOOD, LIGHT, {"shadow_threshold": 1.0}, r"shadow_threshold must be in \[0, 1\)"),
+        (GOOD, LIGHT, {"shadow_threshold": float("inf")}, r"shadow_threshold must be in \[0, 1\) \(a fraction of the albedo\); got inf"),
+        (GOOD, LIGHT, {"highlight_threshold": float("nan")}, "highlight_threshold must be finite"),
+        (GOOD, LIGHT, {"highlight_threshold": float("inf")}, "highlight_threshold must be finite"),
+        (GOOD, LIGHT, {"viscosity_weight": -1e300}, r"viscosity_weight must be finite and >= 0; got -1e\+300$"),
         (-GOOD, LIGHT, {}, "negative"),
     ],
 )
@@ -231,3 +243,35 @@ def test_a_named_pipe_or_a_device_is_refused_without_reading_it(tmp_path):
                                    env={**os.environ, "PYTHONPATH": str(Path(shadecut.__file__).parents[1])})
         assert completed.stdout.strip() == f'cannot read image "{path}": it is {kind}, not a regular file', \
             completed.stdout + completed.stderr
+
+@pytest.mark.parametrize("albedo", [float("nan"), float("inf"), 0.0, -1.0])
+def test_estimate_light_refuses_a_bad_albedo_like_reconstruct(albedo):
+    for method in shadecut.LIGHT_METHODS:
+        with pytest.raises(ValueError, match="the albedo must be finite and > 0"):
+            shadecut.estimate_light(GOOD, method=method, albedo=albedo)
+
+
+def test_the_default_pixel_limit_is_the_core_s_for_the_add_on():
+    """The add-on ships _core without _imageio; the limit load_image applies is readable from both."""
+    from shadecut import _core, _imageio
+    assert _core.DEFAULT_MAX_PIXELS == _imageio.DEFAULT_MAX_PIXELS == 2**28
+
+
+@pytest.mark.parametrize("name", ["method", "integrator", "scene", "albedo_method"])
+def test_an_enum_option_given_none_names_the_option(name):
+    """pybind11 took the enum's failed cast of None for a wrong overload: "incompatible function arguments"."""
+    with pytest.raises(TypeError, match=f"shadecut: option '{name}' cannot be None"):
+        shadecut.reconstruct(GOOD, LIGHT, **{name: None})
+
+
+@pytest.mark.parametrize("call", [
+    lambda: shadecut.render(np.zeros((2**31, 0, 3), np.float32), LIGHT),
+    lambda: shadecut.render(np.zeros((2**31, 0), np.float32), LIGHT),
+    lambda: shadecut.fold_back_facing(np.zeros((2**31, 0, 3), np.float32)),
+    lambda: shadecut.erode_mask(np.zeros((2**31, 0), bool), 1),
+    lambda: shadecut.mask_components(np.zeros((2**31, 0), bool)),
+])
+def test_a_side_beyond_a_32_bit_count_is_refused_not_wrapped(call):
+    """An empty array can have 2^31 rows; the core counts them in int, where they wrapped negative."""
+    with pytest.raises(ValueError, match="2147483648 x 0 pixels; a side may have at most 2147483647"):
+        call()

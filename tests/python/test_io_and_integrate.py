@@ -1,5 +1,9 @@
 """Image files, depth integration and the renderer through the Python API."""
 
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import OpenImageIO as oiio
 import pytest
@@ -87,3 +91,47 @@ def test_save_depth_normals_and_mesh_write_readable_files(tmp_path):
     np.testing.assert_allclose(exr.read_image(oiio.FLOAT)[..., z_channel], sphere.depth, atol=1e-5)
     vertices = sum(line.startswith("v ") for line in open(tmp_path / "mesh.obj"))
     assert vertices == sphere.mask.sum()
+
+
+# Each writer's call on a 128 x 128 noise image (tens of kilobytes in every format), in a child process.
+WRITES = {
+    "image.exr": "shadecut.save_image(path, noise)",
+    "image.png": "shadecut.save_image(path, noise)",
+    "colour.png": "shadecut.save_image(path, np.dstack([noise] * 3))",
+    "depth.exr": "shadecut.save_depth(path, noise)",
+    "depth.png": "shadecut.save_depth(path, noise)",
+    "normals.exr": "shadecut.save_normals(path, shadecut.normals_from_depth(noise * 4))",
+    "normals.png": "shadecut.save_normals(path, shadecut.normals_from_depth(noise * 4))",
+    "mesh.ply": "shadecut.save_mesh(path, noise)",
+    "mesh.obj": "shadecut.save_mesh(path, noise)",
+}
+WRITE_IN_CHILD = """
+import sys
+import numpy as np
+import shadecut
+path, seed = sys.argv[1], int(sys.argv[2])
+noise = np.random.default_rng(seed).random((128, 128), dtype=np.float32)
+try:
+    {call}
+except OSError as error:
+    print(error)
+    sys.exit(3)
+"""
+
+
+@pytest.mark.parametrize("name", WRITES)
+def test_a_write_that_fails_part_way_leaves_the_old_file_whole(tmp_path, name, file_size_limit):
+    """A full disk part-way through a save replaced a good file by a fragment: the new file is now
+    written beside it and renamed onto it only when complete. The disk fills at 4 KB here."""
+    path = tmp_path / name
+    code = WRITE_IN_CHILD.format(call=WRITES[name])
+    env = {"PYTHONPATH": str(Path(shadecut.__file__).parents[1])}
+    subprocess.run([sys.executable, "-c", code, str(path), "1"], check=True, env=env, timeout=60)
+    old = path.read_bytes()
+    assert len(old) > 4096
+    failed = subprocess.run([sys.executable, "-c", code, str(path), "2"], capture_output=True, text=True, env=env,
+                            timeout=60, preexec_fn=file_size_limit(4096))
+    assert failed.returncode == 3, failed.stdout + failed.stderr
+    assert name in failed.stdout
+    assert path.read_bytes() == old
+    assert [entry.name for entry in tmp_path.iterdir()] == [name]  # no temporary file left

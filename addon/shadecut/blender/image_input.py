@@ -14,7 +14,7 @@ from typing import Optional
 import bpy
 import numpy as np
 
-from .. import imaging
+from .. import _core, imaging
 from ..file_kinds import special_file_kind
 from ..image_header import declared_size
 from .wording import short_bytes
@@ -112,16 +112,20 @@ def _shrink_factor(name: str, width: int, height: int, max_size: int) -> int:
 
 def check_declared_size(label: str, path: str) -> None:
     """InputError before Blender decodes the file at ``path`` when the size its header declares needs
-    more memory to read than this machine has available (``label`` names it in the message)."""
+    more memory to read than this machine has available, or is more pixels than the library reads
+    from a file (``load_image``'s default ``max_pixels``) (``label`` names it in the message)."""
     size, available = declared_size(path), available_memory()
-    if size is None or available is None:
+    if size is None:
         return
     width, height = size
     needed = width * height * READ_BYTES_PER_PIXEL
-    if needed > available:
+    if available is not None and needed > available:
         raise InputError(f"{label} is {width:,} x {height:,} pixels (its file's header says so): reading it takes "
                          f"about {short_bytes(needed)}, more than the {short_bytes(available)} of memory available. "
                          "Shrink it in an image editor first")
+    if width * height > _core.DEFAULT_MAX_PIXELS:
+        raise InputError(f"{label} is {width:,} x {height:,} pixels (its file's header says so), more than the "
+                         f"{_core.DEFAULT_MAX_PIXELS:,} ShadeCut reads from a file. Shrink it in an image editor first")
 
 
 def available_memory() -> Optional[int]:

@@ -45,7 +45,7 @@ BrooksHornResult brooks_horn(const ImageF& image, const Mask& mask, const LightF
     }
   }
   const double pixels = double(mask.count());
-  const int report_every = std::max(1, params.iterations / 100);
+  ReportClock clock;
 
   for (int iteration = 0; iteration < params.iterations; ++iteration) {
     double change = 0.0;
@@ -77,7 +77,8 @@ BrooksHornResult brooks_horn(const ImageF& image, const Mask& mask, const LightF
     }
     result.iterations = iteration + 1;
     result.change = change / pixels;
-    if ((iteration + 1) % report_every == 0) progress.report(double(iteration + 1) / params.iterations, "brooks_horn");
+    if (clock.due() || result.iterations == params.iterations)
+      progress.report(double(result.iterations) / params.iterations, "brooks_horn");
     if (result.change <= params.tolerance) break;
   }
   return result;

@@ -20,7 +20,7 @@ TsaiShahResult tsai_shah(const ImageF& image, const Mask& mask, const LightFrame
   TsaiShahResult result;
   result.depth = ImageF::Zero(rows, cols);
   ImageF previous = result.depth;
-  const int report_every = std::max(1, iterations / 100);
+  ReportClock clock;
   auto inside = [&](int r, int c) { return r >= 0 && r < rows && c >= 0 && c < cols && mask(r, c); };
 
   for (int iteration = 0; iteration < iterations; ++iteration) {
@@ -47,7 +47,7 @@ TsaiShahResult tsai_shah(const ImageF& image, const Mask& mask, const LightFrame
       }
     });
     result.iterations = iteration + 1;
-    if ((iteration + 1) % report_every == 0) progress.report(double(iteration + 1) / iterations, "tsai_shah");
+    if (clock.due() || result.iterations == iterations) progress.report(double(result.iterations) / iterations, "tsai_shah");
   }
   return result;
 }

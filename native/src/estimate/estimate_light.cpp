@@ -37,6 +37,7 @@ LightEstimate estimate_light(const ImageF& image_in, const Mask& mask, LightMeth
   check_image(image_in);
   check_mask(mask, image_in);
   if (image_in.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
+  if (ceiling) check_albedo(*ceiling);
   if (method == LightMethod::Relief) return detail::estimate_relief_light(image_in, mask, ceiling);
   // Highlights and saturated spots would pull the light toward them: above the albedo no Lambertian
   // surface of it shows, so the image is read clipped there.

@@ -1,10 +1,12 @@
 #include <shadecut/support/errors.hpp>
 #include <shadecut/integrate/height_field_mesh.hpp>
+#include <shadecut/io/atomic_files.hpp>
 #include <shadecut/io/image_io.hpp>
 #include <shadecut/support/intensity.hpp>
 
 #include "support/enum_names.hpp"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -91,15 +93,40 @@ void require_mask_shape(const char* function, const Mask& mask, Eigen::Index row
   }
 }
 
+// Writes `size` bytes to `path` whole or not at all (write_atomically), every write checked: a full
+// disk or a file size limit is an IoError naming `path` after `failure` ("cannot write"), never a
+// short file.
+void write_bytes(const std::string& path, const void* data, std::size_t size, const std::string& failure) {
+  write_atomically(path, [&](const std::string& temporary) {
+    std::ofstream file(temporary, std::ios::binary);
+    if (!file) throw IoError(failure + " \"" + path + "\": " + std::strerror(errno));
+    file.write(static_cast<const char*>(data), std::streamsize(size));
+    file.close();
+    if (!file) throw IoError(failure + " \"" + path + "\": " + std::strerror(errno));
+  });
+}
+
 // Writes interleaved pixels whose layout and file type `spec` describes; `pixel_type` is the type of
-// `pixels` in memory.
+// `pixels` in memory. The file is encoded in memory and then written by write_bytes: OpenImageIO's PNG
+// writer, for one, reports success when the disk fills part-way, and its fragment would replace the
+// file that was there.
 void write_pixels(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc pixel_type,
                   const void* pixels) {
   auto output = OIIO::ImageOutput::create(path);
   if (!output) throw IoError("cannot write \"" + path + "\": " + OIIO::geterror());
-  if (!output->open(path, spec) || !output->write_image(pixel_type, pixels) || !output->close()) {
-    throw IoError("cannot write \"" + path + "\": " + output->geterror());
+  auto encode = [&](const std::string& target) {
+    if (!output->open(target, spec) || !output->write_image(pixel_type, pixels) || !output->close())
+      throw IoError("cannot write \"" + path + "\": " + output->geterror());
+  };
+  if (!output->supports("ioproxy")) {  // a format that can only write files: at least never half a file
+    write_atomically(path, encode);
+    return;
   }
+  std::vector<unsigned char> encoded;
+  OIIO::Filesystem::IOVecOutput memory(encoded);
+  output->set_ioproxy(&memory);
+  encode(path);
+  write_bytes(path, encoded.data(), encoded.size(), "cannot write");
 }
 
 OIIO::ImageSpec make_spec(Eigen::Index rows, Eigen::Index cols, OIIO::TypeDesc type,
@@ -113,6 +140,15 @@ OIIO::ImageSpec make_spec(Eigen::Index rows, Eigen::Index cols, OIIO::TypeDesc t
     spec.attribute("oiio:UnassociatedAlpha", 1);
   }
   return spec;
+}
+
+// The words of shadecut.file_kinds, which the add-on uses where Blender reads the file.
+std::string special_file_kind(const std::filesystem::file_status& kind) {
+  if (std::filesystem::is_fifo(kind)) return "a named pipe (FIFO)";
+  if (std::filesystem::is_character_file(kind)) return "a character device";
+  if (std::filesystem::is_block_file(kind)) return "a block device";
+  if (std::filesystem::is_socket(kind)) return "a socket";
+  return "not a regular file";
 }
 
 void append_u32_le(std::string& bytes, std::uint32_t value) {
@@ -142,8 +178,13 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
   config.attribute("oiio:UnassociatedAlpha", 1);
   require_path("load_image", path);
   std::error_code status;
-  if (std::filesystem::is_directory(path, status)) throw IoError("cannot read image \"" + path + "\": it is a folder");
-  if (!std::filesystem::exists(path, status)) throw IoError("cannot read image \"" + path + "\": there is no such file");
+  const std::filesystem::file_status kind = std::filesystem::status(path, status);
+  if (std::filesystem::is_directory(kind)) throw IoError("cannot read image \"" + path + "\": it is a folder");
+  if (!std::filesystem::exists(kind)) throw IoError("cannot read image \"" + path + "\": there is no such file");
+  // A named pipe blocks a reader until something writes to it and a device such as /dev/zero feeds
+  // it bytes without end: neither is an image, and both are refused without being opened.
+  if (!std::filesystem::is_regular_file(kind))
+    throw IoError("cannot read image \"" + path + "\": it is " + special_file_kind(kind) + ", not a regular file");
   auto input = OIIO::ImageInput::open(path, &config);
   if (!input) throw IoError("cannot read image \"" + path + "\": " + OIIO::geterror());
   const OIIO::ImageSpec spec = input->spec();
@@ -159,8 +200,15 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
                   " (max_pixels)");
   const std::size_t pixel_count = std::size_t(declared);
   std::vector<float> pixels(pixel_count * std::size_t(channels));
-  if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
-    throw IoError("cannot read image \"" + path + "\": " + input->geterror());
+  // A truncated JPEG or strip TIFF reads "successfully" with grey or black rows: the decoder's
+  // complaint is only left pending on the reader (or, from some plugins, globally).
+  OIIO::geterror();  // what opening left (formats tried and refused) is not this read's complaint
+  const bool read = input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data());
+  if (!read || input->has_error() || OIIO::has_error()) {
+    std::string reason = input->geterror();
+    const std::string global = OIIO::geterror();
+    if (reason.empty()) reason = global.empty() ? "the file is damaged or truncated" : global;
+    throw IoError("cannot read image \"" + path + "\": " + reason);
   }
 
   int alpha = channels > 1 ? spec.alpha_channel : -1;
@@ -321,9 +369,6 @@ void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
   }
   const Eigen::Index vertex_count = mesh.vertices.rows();
 
-  std::ofstream file(path, std::ios::binary);
-  if (!file) throw IoError("cannot write mesh \"" + path + "\": " + std::strerror(errno));
-
   std::string bytes;
   if (extension == ".ply") {
     bytes = "ply\nformat binary_little_endian 1.0\n"
@@ -354,9 +399,7 @@ void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
                                                    triangle.c + 1)));
     }
   }
-  file.write(bytes.data(), std::streamsize(bytes.size()));
-  file.close();
-  if (!file) throw IoError("cannot write mesh \"" + path + "\": the write failed");
+  write_bytes(path, bytes.data(), bytes.size(), "cannot write mesh");
 }
 
 }  // namespace shadecut

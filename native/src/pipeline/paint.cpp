@@ -17,7 +17,7 @@ namespace {
 void check_paint_options(const ReconstructOptions& options) {
   auto finite = [](double value) { return std::isfinite(value); };
   if (!(options.retinex_chroma_edge >= 0.0) || !finite(options.retinex_chroma_edge))
-    throw InvalidArgument("shadecut: retinex_chroma_edge must be finite and >= 0; got " + std::to_string(options.retinex_chroma_edge));
+    throw InvalidArgument("shadecut: retinex_chroma_edge must be finite and >= 0; got " + number_text(options.retinex_chroma_edge));
   if (!finite(options.retinex_intensity_edge))
     throw InvalidArgument("shadecut: retinex_intensity_edge must be finite (<= 0: off)");
   if (!finite(options.retinex_highlight))
@@ -29,6 +29,9 @@ void check_paint_options(const ReconstructOptions& options) {
 Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
                                  const Mask* mask_in, std::optional<double> albedo, const ReconstructOptions& options) {
   check_paint_options(options);
+  // Before the estimates, whose own complaint about a bad albedo ("the image is dark everywhere")
+  // would name the wrong problem.
+  if (albedo) check_albedo(*albedo);
   const bool painted = !albedo && options.albedo_method == AlbedoMethod::Retinex;
   Reconstruction result;
   if (painted) {

@@ -95,9 +95,16 @@ void check_options(const ReconstructOptions& options, const Mask& mask) {
     throw InvalidArgument("shadecut: labels must be at least " + std::to_string(kMinLabels) + " (got " +
                           std::to_string(options.labels) + ")");
   if (!(options.viscosity_weight >= 0.0) || !std::isfinite(options.viscosity_weight))
-    throw InvalidArgument("shadecut: viscosity_weight must be finite and >= 0; got " + std::to_string(options.viscosity_weight));
+    throw InvalidArgument("shadecut: viscosity_weight must be finite and >= 0; got " + number_text(options.viscosity_weight));
   if (!(options.fit_smoothness >= 0.0) || !std::isfinite(options.fit_smoothness))
-    throw InvalidArgument("shadecut: fit_smoothness must be finite and >= 0; got " + std::to_string(options.fit_smoothness));
+    throw InvalidArgument("shadecut: fit_smoothness must be finite and >= 0; got " + number_text(options.fit_smoothness));
+  // A NaN or negative threshold silently marked no pixel as shadow, 1 or more marked every pixel.
+  if (!(options.shadow_threshold >= 0.0 && options.shadow_threshold < 1.0))
+    throw InvalidArgument("shadecut: shadow_threshold must be in [0, 1) (a fraction of the albedo); got " +
+                          number_text(options.shadow_threshold));
+  if (!std::isfinite(options.highlight_threshold))
+    throw InvalidArgument("shadecut: highlight_threshold must be finite (<= 0: never); got " +
+                          number_text(options.highlight_threshold));
   if (options.seamless && options.scene != SceneKind::Relief)
     throw InvalidArgument("shadecut: seamless output is for reliefs that fill the image; set scene to relief");
   if (options.seamless && !mask.all())
@@ -136,7 +143,7 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, float brightes
   check_albedo(result.albedo);
   if (brightest <= 1e-6f * result.albedo)
     throw InvalidArgument("shadecut: the image is dark everywhere in the mask compared with the albedo " +
-                          std::to_string(result.albedo) + "; nothing to reconstruct");
+                          number_text(result.albedo) + "; nothing to reconstruct");
   return frame;
 }
 

@@ -5,6 +5,8 @@
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
+#include <iterator>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <system_error>
@@ -21,6 +23,8 @@ namespace {
 
 thread_local int scoped_thread_count = 0;
 thread_local bool inside_pool_thread = false;
+
+int core_count() { return std::max(1, int(std::thread::hardware_concurrency())); }
 
 int process_id() {
 #if defined(__unix__) || defined(__APPLE__)
@@ -62,7 +66,9 @@ class Loop {
 };
 
 // Threads started once and kept asleep between loops: starting threads for every loop cost the
-// Poisson solve, which runs hundreds of short loops, up to a third of its time at 512 x 512.
+// Poisson solve, which runs hundreds of short loops, up to a third of its time at 512 x 512. Only
+// as many as a loop over every core uses stay: a call asking for 256 threads would otherwise leave 256
+// asleep for the rest of the process.
 class Pool {
  public:
   // Runs the loop on the caller and `helpers` pool threads; false (and nothing run) when another
@@ -72,6 +78,7 @@ class Pool {
     if (!in_use) return false;
     {
       const std::lock_guard<std::mutex> lock(mutex_);
+      kept_ = std::numeric_limits<int>::max();
       while (int(workers_.size()) < helpers) {
         try {
           workers_.emplace_back([this, index = int(workers_.size())] { work(index); });
@@ -90,10 +97,26 @@ class Pool {
     std::unique_lock<std::mutex> lock(mutex_);
     done_.wait(lock, [&] { return finished_ == wanted_; });
     loop_ = nullptr;
+    retire_beyond(core_count() - 1, lock);
     return true;
   }
 
  private:
+  // Ends and joins the workers from index `kept` on; `lock` holds mutex_ and holds it again after.
+  void retire_beyond(int kept, std::unique_lock<std::mutex>& lock) {
+    if (int(workers_.size()) <= kept) return;
+    std::vector<std::thread> retired(std::make_move_iterator(workers_.begin() + kept),
+                                     std::make_move_iterator(workers_.end()));
+    workers_.resize(std::size_t(kept));
+    kept_ = kept;
+    wanted_ = 0;  // the workers that stay go back to sleep
+    ++generation_;
+    lock.unlock();
+    wake_.notify_all();
+    for (std::thread& worker : retired) worker.join();
+    lock.lock();
+  }
+
   void work(int index) {
     inside_pool_thread = true;
     std::uint64_t seen = 0;
@@ -101,6 +124,7 @@ class Pool {
     for (;;) {
       wake_.wait(lock, [&] { return generation_ != seen; });
       seen = generation_;
+      if (index >= kept_) return;
       if (index >= wanted_) continue;
       Loop* loop = loop_;
       lock.unlock();
@@ -114,7 +138,7 @@ class Pool {
   std::condition_variable wake_, done_;
   std::vector<std::thread> workers_;
   Loop* loop_ = nullptr;
-  int wanted_ = 0, finished_ = 0;
+  int wanted_ = 0, finished_ = 0, kept_ = std::numeric_limits<int>::max();
   std::uint64_t generation_ = 0;
 };
 
@@ -137,7 +161,7 @@ Pool& pool() {
 
 int default_thread_count() {
   if (scoped_thread_count > 0) return scoped_thread_count;
-  return std::max(1, int(std::thread::hardware_concurrency()));
+  return core_count();
 }
 
 ThreadCountScope::ThreadCountScope(int threads) : saved_(scoped_thread_count) {

@@ -24,7 +24,8 @@ class ThreadCountScope {
 };
 
 /// Calls body(begin, end) on consecutive ranges of at most `chunk` indices covering [0, count), on
-/// up to `threads` threads (the caller is one of them, the others from a pool kept between calls;
+/// up to `threads` threads (the caller is one of them, the others from a pool kept between calls, at
+/// most one fewer than the cores;
 /// threads <= 0 means default_thread_count()). Ranges are handed out in increasing order to whichever
 /// thread is free, so that a thread that lost its core delays the loop by one chunk only. With one
 /// thread or a single chunk, inside another loop's body, or while another thread's loop holds the

@@ -2,6 +2,9 @@
 
 #include <shadecut/support/errors.hpp>
 
+#include <cmath>
+#include <cstdio>
+
 namespace shadecut {
 
 void check_image(const ImageF& image, const std::string& what) {
@@ -35,8 +38,15 @@ void check_normals(const NormalMap& normals, int rows, int cols) {
                           " was expected");
 }
 
+std::string number_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
 void check_albedo(double albedo) {
-  if (!(albedo > 0.0) || !std::isfinite(albedo)) throw InvalidArgument("shadecut: the albedo must be finite and > 0");
+  if (!(albedo > 0.0) || !std::isfinite(albedo))
+    throw InvalidArgument("shadecut: the albedo must be finite and > 0; got " + number_text(albedo));
 }
 
 void check_iterations(int iterations) {

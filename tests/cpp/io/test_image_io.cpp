@@ -1,4 +1,5 @@
 #include <shadecut/support/errors.hpp>
+#include <shadecut/io/atomic_files.hpp>
 #include <shadecut/io/image_io.hpp>
 
 #include <OpenImageIO/imageio.h>
@@ -438,6 +439,41 @@ TEST_F(ImageIO, MeshesHaveOneVertexPerPixelAndFaceTheViewer) {
   const Mesh ring_mesh = parse_binary_ply(read_file(path("ring.ply")));
   EXPECT_EQ(ring_mesh.vertices.size(), 8u);
   EXPECT_TRUE(ring_mesh.triangles.empty());
+}
+
+std::string contents(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+}
+
+// The files of a set appear together at commit(), or not at all; what stood at their names stays
+// until then, and no temporary file outlives the set.
+TEST_F(ImageIO, StagedFilesReplaceTheOldOnesTogetherOrNotAtAll) {
+  std::ofstream(path("a.txt")) << "old a";
+  {
+    shadecut::StagedFiles staged;
+    const std::string a = staged.stage(path("a.txt")), b = staged.stage(path("b.ply"));
+    EXPECT_EQ(fs::path(b).extension(), ".ply");  // writers that choose the format by it still find it
+    EXPECT_EQ(fs::path(b).parent_path(), fs::path(path("b.ply")).parent_path());
+    std::ofstream(a) << "new a";
+    std::ofstream(b) << "new b";
+  }  // dropped without commit(): a failure part-way
+  EXPECT_EQ(contents(path("a.txt")), "old a");
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("")), fs::directory_iterator()), 1);
+
+  shadecut::StagedFiles staged;
+  std::ofstream(staged.stage(path("a.txt"))) << "new a";
+  std::ofstream(staged.stage(path("b.ply"))) << "new b";
+  staged.commit();
+  EXPECT_EQ(contents(path("a.txt")), "new a");
+  EXPECT_EQ(contents(path("b.ply")), "new b");
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("")), fs::directory_iterator()), 2);
+
+  fs::create_directory(path("folder.exr"));
+  EXPECT_THROW(staged.stage(path("folder.exr")), IoError);  // a rename cannot replace a folder
+  EXPECT_THROW(shadecut::write_atomically(path("a.txt"), [](const std::string&) { throw IoError("disk full"); }),
+               IoError);
+  EXPECT_EQ(contents(path("a.txt")), "new a");
 }
 
 }  // namespace

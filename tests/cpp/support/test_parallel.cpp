@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <atomic>
 #include <chrono>
 #include <mutex>
@@ -89,6 +90,37 @@ TEST(ThreadCountScope, SetsTheDefaultForItsLifetimeOnThisThreadOnly) {
     EXPECT_EQ(default_thread_count(), 3);
   }
   EXPECT_EQ(default_thread_count(), outside);
+}
+
+// The threads of this process, as the kernel lists them.
+int process_thread_count() {
+  int count = 0;
+  for ([[maybe_unused]] const auto& task : std::filesystem::directory_iterator("/proc/self/task")) ++count;
+  return count;
+}
+
+// A call asking for 64 threads left 64 asleep for the rest of the process; the pool now keeps at most
+// one thread fewer than the cores.
+TEST(ParallelRanges, KeepsNoMoreThreadsThanTheCoresAfterALoopAskingForMore) {
+  parallel_for(64, 1, 2, [](int) {});  // the pool exists, with what a small loop needs
+  const int before = process_thread_count();
+  std::atomic<int> visits{0};
+  parallel_for(64, 1, 64, [&](int) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ++visits;
+  });
+  EXPECT_EQ(visits, 64);
+  const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+  EXPECT_LE(process_thread_count(), before + cores - 1);
+  // The pool still runs loops on several threads afterwards.
+  std::mutex mutex;
+  std::set<std::thread::id> ids;
+  parallel_for(64, 1, 64, [&](int) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    const std::lock_guard<std::mutex> lock(mutex);
+    ids.insert(std::this_thread::get_id());
+  });
+  EXPECT_GT(ids.size(), 1u);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
-// Image, depth, normal and mesh files through OpenImageIO (and plain text for meshes).
+// Image, depth, normal and mesh files through OpenImageIO (and plain text for meshes). Every save_*
+// writes its file whole or not at all (write_atomically): a failed write leaves the file that was there.
 #pragma once
 
+#include <shadecut/support/intensity.hpp>
 #include <shadecut/support/types.hpp>
 
 #include <cstdint>
@@ -18,9 +20,6 @@ enum class ColorSpace {
 /// Parses "auto", "linear" or "srgb"; throws InvalidArgument otherwise.
 ColorSpace parse_color_space(const std::string& name);
 
-/// The largest image load_image reads by default: 2^28 pixels (16384 x 16384), about 1 GB per
-/// channel as floats.
-constexpr std::int64_t kDefaultMaxPixels = std::int64_t(1) << 28;
 /// More channels than this is no photograph.
 constexpr int kMaxChannels = 64;
 
@@ -40,7 +39,8 @@ struct LoadedImage {
 /// the exact piecewise curve. Auto treats an integer file as linear when its oiio:ColorSpace says
 /// linear ("Linear", "scene_linear", "lin_srgb", ...) or its oiio:Gamma is 1 (a PNG gAMA of 1.0).
 /// Non-finite values are returned as they are. Throws IoError (with the path and OIIO's message) when
-/// the file is missing or unreadable, and before allocating anything when its header declares more
+/// the file is missing, unreadable or truncated, or not a regular file (a named pipe, a device: not
+/// opened), and before allocating anything when its header declares more
 /// than `max_pixels` pixels (a 1 KB file can claim 100000 x 100000) or more channels than
 /// kMaxChannels.
 LoadedImage load_image(const std::string& path, ColorSpace color_space = ColorSpace::Auto,

@@ -4,7 +4,14 @@
 
 #include <shadecut/support/types.hpp>
 
+#include <cstdint>
+
 namespace shadecut {
+
+/// The largest image a reader decodes unless told otherwise (load_image's max_pixels, and the add-on's
+/// check of a file's header before Blender reads it): 2^28 pixels (16384 x 16384), about 1 GB per
+/// channel as floats.
+constexpr std::int64_t kDefaultMaxPixels = std::int64_t(1) << 28;
 
 /// The exact piecewise sRGB transfer functions (IEC 61966-2-1), not the 2.2 power approximation.
 double srgb_to_linear(double encoded);

@@ -1,6 +1,7 @@
 // Progress and cancellation of a long call, one type for every stage.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <string>
 
@@ -35,6 +36,25 @@ class Progress {
   ProgressCallback callback_;
   double begin_ = 0.0;
   double end_ = 1.0;
+};
+
+/// When a loop of many short steps reports next: once kInterval of work has passed since the last
+/// report, so that a call answers a cancel (or Ctrl+C) within about that long whatever its step count.
+/// A step count alone cannot promise it: a hundredth of 10^9 sweeps runs for minutes.
+class ReportClock {
+ public:
+  static constexpr std::chrono::milliseconds kInterval{100};
+
+  /// Whether kInterval has passed since the last time this answered true (or since construction).
+  bool due() {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ < kInterval) return false;
+    last_ = now;
+    return true;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace shadecut

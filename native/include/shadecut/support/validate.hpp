@@ -20,6 +20,10 @@ void check_mask_fits(const Mask& mask, const NormalMap& normals);
 /// Throws InvalidArgument unless `normals` is rows x cols.
 void check_normals(const NormalMap& normals, int rows, int cols);
 
+/// `value` for a message: six significant digits ("1e+300", "0.001"), not std::to_string's fixed
+/// notation, which prints 1e300 in 301 digits and 1e-9 as 0.000000.
+std::string number_text(double value);
+
 /// Throws InvalidArgument unless the albedo is finite and > 0.
 void check_albedo(double albedo);
 
