@@ -38,6 +38,7 @@ Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour,
     check_image(image);
     const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);
     check_mask(mask, image);
+    detail::check_options(options, mask);  // before the paint is read, not after
     const Stopwatch stopwatch;
     const Reflectance reflectance =
         estimate_reflectance(image, colour, mask, reflectance_params(options), Progress(options.progress).range(0.0, 0.0));

@@ -87,30 +87,6 @@ void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& cou
   stats.pulled_kept = pulled_residual < paper_residual;
 }
 
-void check_options(const ReconstructOptions& options, const Mask& mask) {
-  if (options.threads < 0 || options.threads > kMaxThreads)
-    throw InvalidArgument("shadecut: threads must be in 0 .. " + std::to_string(kMaxThreads) + " (0 = all cores); got " +
-                          std::to_string(options.threads));
-  if (options.labels < kMinLabels)
-    throw InvalidArgument("shadecut: labels must be at least " + std::to_string(kMinLabels) + " (got " +
-                          std::to_string(options.labels) + ")");
-  if (!(options.viscosity_weight >= 0.0) || !std::isfinite(options.viscosity_weight))
-    throw InvalidArgument("shadecut: viscosity_weight must be finite and >= 0; got " + number_text(options.viscosity_weight));
-  if (!(options.fit_smoothness >= 0.0) || !std::isfinite(options.fit_smoothness))
-    throw InvalidArgument("shadecut: fit_smoothness must be finite and >= 0; got " + number_text(options.fit_smoothness));
-  // A NaN or negative threshold silently marked no pixel as shadow, 1 or more marked every pixel.
-  if (!(options.shadow_threshold >= 0.0 && options.shadow_threshold < 1.0))
-    throw InvalidArgument("shadecut: shadow_threshold must be in [0, 1) (a fraction of the albedo); got " +
-                          number_text(options.shadow_threshold));
-  if (!std::isfinite(options.highlight_threshold))
-    throw InvalidArgument("shadecut: highlight_threshold must be finite (<= 0: never); got " +
-                          number_text(options.highlight_threshold));
-  if (options.seamless && options.scene != SceneKind::Relief)
-    throw InvalidArgument("shadecut: seamless output is for reliefs that fill the image; set scene to relief");
-  if (options.seamless && !mask.all())
-    throw InvalidArgument("shadecut: seamless output tiles the whole image, but the mask leaves " +
-                          std::to_string(mask.size() - mask.count()) + " pixels out; give no mask");
-}
 
 // The light frame and albedo used: given, or estimated from the image (an object's albedo with its
 // estimated light; otherwise estimate_albedo's, or a relief's median). `brightest` is the largest
@@ -168,6 +144,31 @@ NormalMap brooks_horn_normals(const ImageF& image, const Mask& mask, const Light
 }
 
 }  // namespace
+
+void detail::check_options(const ReconstructOptions& options, const Mask& mask) {
+  if (options.threads < 0 || options.threads > kMaxThreads)
+    throw InvalidArgument("shadecut: threads must be in 0 .. " + std::to_string(kMaxThreads) + " (0 = all cores); got " +
+                          std::to_string(options.threads));
+  if (options.labels < kMinLabels)
+    throw InvalidArgument("shadecut: labels must be at least " + std::to_string(kMinLabels) + " (got " +
+                          std::to_string(options.labels) + ")");
+  if (!(options.viscosity_weight >= 0.0) || !std::isfinite(options.viscosity_weight))
+    throw InvalidArgument("shadecut: viscosity_weight must be finite and >= 0; got " + number_text(options.viscosity_weight));
+  if (!(options.fit_smoothness >= 0.0) || !std::isfinite(options.fit_smoothness))
+    throw InvalidArgument("shadecut: fit_smoothness must be finite and >= 0; got " + number_text(options.fit_smoothness));
+  // A NaN or negative threshold silently marked no pixel as shadow, 1 or more marked every pixel.
+  if (!(options.shadow_threshold >= 0.0 && options.shadow_threshold < 1.0))
+    throw InvalidArgument("shadecut: shadow_threshold must be in [0, 1) (a fraction of the albedo); got " +
+                          number_text(options.shadow_threshold));
+  if (!std::isfinite(options.highlight_threshold))
+    throw InvalidArgument("shadecut: highlight_threshold must be finite (<= 0: never); got " +
+                          number_text(options.highlight_threshold));
+  if (options.seamless && options.scene != SceneKind::Relief)
+    throw InvalidArgument("shadecut: seamless output is for reliefs that fill the image; set scene to relief");
+  if (options.seamless && !mask.all())
+    throw InvalidArgument("shadecut: seamless output tiles the whole image, but the mask leaves " +
+                          std::to_string(mask.size() - mask.count()) + " pixels out; give no mask");
+}
 
 GlobalStepParams global_step_params(const ReconstructOptions& options) {
   const MethodDefaults defaults = method_defaults(options.method);
@@ -329,7 +330,7 @@ Reconstruction detail::reconstruct_shading(const ImageF& image, const std::optio
   const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);
   check_mask(mask, image);
   if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
-  check_options(options, mask);
+  detail::check_options(options, mask);
   // Cheap, and before the estimates that cost a pass of median filtering over the image.
   const float brightest = mask.select(image, 0.0f).maxCoeff();
   if (!(brightest > 0.0f))

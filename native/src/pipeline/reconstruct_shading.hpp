@@ -6,6 +6,10 @@
 
 namespace shadecut::detail {
 
+/// Throws InvalidArgument for options that are out of range or do not fit the mask (every option but
+/// the retinex_* ones, which paint.cpp checks).
+void check_options(const ReconstructOptions& options, const Mask& mask);
+
 /// reconstruct()'s arguments and result (albedo_map and albedo_colour left empty); the albedo, given or
 /// estimated, is one value.
 Reconstruction reconstruct_shading(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,
