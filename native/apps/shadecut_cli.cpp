@@ -3,6 +3,7 @@
 #include <shadecut/estimate/estimate_light.hpp>
 #include <shadecut/io/image_io.hpp>
 #include <shadecut/integrate/integrate.hpp>
+#include <shadecut/pipeline/flip_surface.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 
 #include <cmath>
@@ -75,6 +76,9 @@ options:
   --fit-shading        graphcut: after integration, fit the depth to the image: more accurate,
                        4-10 s more per image (default )" << (defaults.fit_shading ? "on" : "off") << R"()
   --fit-smoothness S   how smooth that fit's correction of the depth is (default )" << defaults.fit_smoothness << R"()
+  --flip               write the surface inverted (depth z -> -z, normals (-nx, -ny, nz)): the
+                       other answer when the light is near the viewer and the output says the
+                       orientation is ambiguous
   --threads N          threads, 0 = all cores (default )" << defaults.threads << R"()
   --quiet              no progress
 )";
@@ -137,13 +141,22 @@ void check_output_folder(const std::filesystem::path& folder) {
 
 }  // namespace
 
+// "N times", the ratio of two residuals, for the orientation line.
+std::string ratio_text(double inverted, double kept) {
+  if (!(kept > 0.0)) return inverted > 0.0 ? "infinitely" : "as";
+  std::ostringstream text;
+  text.precision(3);
+  text << inverted / kept << " times";
+  return text.str();
+}
+
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   std::string image_path, out_dir = "shadecut_out", color_space = "auto";
   std::optional<Eigen::Vector3d> light;
   std::optional<double> albedo;
   std::int64_t max_pixels = shadecut::kDefaultMaxPixels;
-  bool quiet = false;
+  bool quiet = false, flip = false;
   shadecut::ReconstructOptions options;
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
@@ -196,6 +209,8 @@ int main(int argc, char** argv) {
         options.viscosity_weight = parse_number(arg, value());
       } else if (arg == "--fit-shading") {
         options.fit_shading = true;
+      } else if (arg == "--flip") {
+        flip = true;
       } else if (arg == "--fit-smoothness") {
         options.fit_smoothness = parse_number(arg, value());
       } else if (!arg.empty() && arg[0] == '-') {
@@ -217,7 +232,8 @@ int main(int argc, char** argv) {
         return true;
       };
     }
-    const shadecut::Reconstruction result = shadecut::reconstruct(input.intensity, light, &input.mask, albedo, options);
+    shadecut::Reconstruction result = shadecut::reconstruct(input.intensity, light, &input.mask, albedo, options);
+    if (flip) shadecut::flip_surface(result.depth, result.normals, result.mask);
 
     std::filesystem::create_directories(out_dir);
     const std::filesystem::path out(out_dir);
@@ -233,6 +249,12 @@ int main(int argc, char** argv) {
               << "\nmethod " << shadecut::to_string(options.method) << ", albedo " << result.albedo << ", "
               << result.stats.cycles << " cycles, " << result.stats.moves << " moves, "
               << result.stats.seconds.at("total") << " s\n"
+              << "orientation " << (flip ? "flipped; " : "")
+              << (result.stats.orientation_ambiguous
+                      ? "ambiguous: its inversion explains the image about as well (the outline chose); --flip gives it"
+                      : "read from the image: its inversion renders " +
+                            ratio_text(result.stats.inverted_residual, result.stats.orientation_residual) + " as far from it")
+              << "\n"
               << "wrote depth.exr depth.png normals.exr normals.png mesh.ply to " << out.string() << "\n";
     return 0;
   } catch (const shadecut::InvalidArgument& e) {

@@ -14,6 +14,7 @@
 #include <shadecut/support/light.hpp>
 #include <shadecut/support/intensity.hpp>
 #include <shadecut/support/mask_components.hpp>
+#include <shadecut/pipeline/flip_surface.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/render.hpp>
 
@@ -92,6 +93,13 @@ PYBIND11_MODULE(_core, m) {
     NormalMap n = to_normals(normals);
     const int folded = shadecut::fold_back_facing(n, mask_or_all(mask, n.rows, n.cols));
     return py::make_tuple(from_normals(n), folded);
+  });
+
+  m.def("flip_surface", [](const FloatArray& depth, const FloatArray& normals, const std::optional<BoolArray>& mask) {
+    ImageF z = to_image(depth, "depth map");
+    NormalMap n = to_normals(normals);
+    shadecut::flip_surface(z, n, mask_or_all(mask, z.rows(), z.cols()));
+    return py::make_tuple(from_image(z), from_normals(n));
   });
 
   m.def("angular_error_map", [](const FloatArray& a, const FloatArray& b, const std::optional<BoolArray>& mask) {

@@ -86,6 +86,33 @@ void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& cou
   stats.pulled_kept = pulled_residual < paper_residual;
 }
 
+// The orientation statistics of the result (ReconstructStats::orientation_residual, inverted_residual,
+// orientation_ambiguous): its depth rendered, and the surface of its normals turned by pi about the
+// light (n -> 2 (n . S) S - n, each normal's other one of the same brightness), made a surface as the
+// result was (filled, integrated, flattened for a relief) and rendered, over the reliable pixels.
+void judge_orientation(const ImageF& image, const Mask& unreliable, const LightFrame& frame, const ReconstructOptions& options,
+                       Reconstruction& result) {
+  const Mask& mask = result.mask;
+  const Eigen::Vector3f light = frame.direction.cast<float>();
+  NormalMap turned = result.normals;
+  for (Eigen::Index i = 0; i < turned.size(); ++i) {
+    if (!mask.data()[i]) continue;
+    const Eigen::Vector3f n = turned.xyz.row(i).transpose();
+    turned.xyz.row(i) = (2.0f * n.dot(light) * light - n).transpose();
+  }
+  Surface inverted = surface_from_normals(std::move(turned), mask, unreliable, edge_is_outline(options), options.integrator,
+                                          options.seamless, options.max_slope);
+  if (!options.seamless && options.scene == SceneKind::Relief) flatten_relief(inverted.depth, inverted.normals, mask);
+  const Mask counted = mask && !unreliable;
+  auto residual = [&](const ImageF& depth) {
+    return mean_brightness_residual(depth, image, mask, counted, frame.direction, result.albedo);
+  };
+  ReconstructStats& stats = result.stats;
+  stats.orientation_residual = residual(result.depth);
+  stats.inverted_residual = residual(inverted.depth);
+  stats.orientation_ambiguous = stats.inverted_residual < kAmbiguousResidualRatio * stats.orientation_residual;
+}
+
 void check_options(const ReconstructOptions& options, const Mask& mask) {
   if (options.threads < 0 || options.threads > kMaxThreads)
     throw InvalidArgument("shadecut: threads must be in 0 .. " + std::to_string(kMaxThreads) + " (0 = all cores); got " +
@@ -209,6 +236,8 @@ NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFr
   stats.paper_residual = solved.paper_residual;
   stats.pulled_residual = solved.pulled_residual;
   stats.pulled_kept = solved.pulled_kept;
+  stats.orientation_energy = solved.orientation_energy;
+  stats.inverted_energy = solved.inverted_energy;
   return std::move(solved.normals);
 }
 
@@ -364,6 +393,7 @@ Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vecto
     progress.report(1.0, "integration");
   }
   if (!options.seamless && options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);
+  judge_orientation(image, unreliable, frame, options, result);
   result.stats.seconds["total"] = total.seconds();
   return result;
 }
