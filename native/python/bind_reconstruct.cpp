@@ -89,7 +89,7 @@ void bind_reconstruct(py::module_& m) {
                     {Method::GraphCut, Method::GraphCutTwo, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah, Method::Upwind});
   bind_enum<Integrator>(m, "Integrator", "Normal integrators", {Integrator::Poisson, Integrator::FrankotChellappa});
   bind_enum<LightMethod>(m, "LightMethod", "Light estimators",
-                         {LightMethod::LeeRosenfeld, LightMethod::ZhengChellappa, LightMethod::Relief});
+                         {LightMethod::LeeRosenfeld, LightMethod::ZhengChellappa, LightMethod::Relief, LightMethod::Contour});
   bind_enum<SceneKind>(m, "SceneKind", "What the image shows", {SceneKind::Object, SceneKind::Relief});
   bind_enum<AlbedoMethod>(m, "AlbedoMethod", "Albedo estimators", {AlbedoMethod::Brightest, AlbedoMethod::TopFit});
 
@@ -173,6 +173,9 @@ void bind_reconstruct(py::module_& m) {
       .def_readonly("cycles", &ReconstructStats::cycles)
       .def_readonly("iterations", &ReconstructStats::iterations, "cycles, brooks_horn / tsai_shah sweeps, or upwind rounds")
       .def_readonly("light_estimated", &ReconstructStats::light_estimated)
+      .def_readonly("light_uncertainty", &ReconstructStats::light_uncertainty,
+                    "degrees: how far the estimated light may be off (light_method contour: its fit's misfit); NaN when "
+                    "the light was given or its estimator does not know it")
       .def_readonly("moves", &ReconstructStats::moves)
       .def_readonly("accepted_moves", &ReconstructStats::accepted_moves)
       .def_readonly("levels", &ReconstructStats::levels, "resolutions solved (coarse to fine)")

@@ -4,6 +4,7 @@
 #include "arrays.hpp"
 #include "bind_reconstruct.hpp"
 #include "python_errors.hpp"
+#include "estimate/estimate_contour_light.hpp"
 
 #include <shadecut/support/angular_error.hpp>
 #include <shadecut/support/downsample.hpp>
@@ -55,6 +56,16 @@ PYBIND11_MODULE(_core, m) {
     const shadecut::LightEstimate estimate =
         shadecut::estimate_light(img, mask_or_all(mask, img.rows(), img.cols()), estimator, albedo);
     return py::make_tuple(std::vector<double>{estimate.light.x(), estimate.light.y(), estimate.light.z()}, estimate.albedo);
+  });
+
+  // Private: scripts/tune_parameters.py --light-method chooses the contour estimator's ring with it.
+  m.def("estimate_contour_light", [](const FloatArray& image, const std::optional<BoolArray>& mask, double albedo,
+                                     double ring) {
+    const ImageF img = to_image(image, "image");
+    const shadecut::LightEstimate estimate =
+        shadecut::detail::estimate_contour_light(img, mask_or_all(mask, img.rows(), img.cols()), albedo, ring);
+    return py::make_tuple(std::vector<double>{estimate.light.x(), estimate.light.y(), estimate.light.z()}, estimate.albedo,
+                          estimate.uncertainty);
   });
 
   m.def("estimate_albedo", [](const FloatArray& image, const std::optional<BoolArray>& mask, const std::string& method,

@@ -77,6 +77,7 @@ void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& cou
   for (const auto& [stage, spent] : paper_stats.seconds) seconds[stage] += spent;
   if (paper_residual <= pulled_residual) {
     paper_stats.light_estimated = stats.light_estimated;
+    paper_stats.light_uncertainty = stats.light_uncertainty;
     stats = std::move(paper_stats);
     kept = std::move(paper);
   }
@@ -150,6 +151,7 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, float brightes
     const LightEstimate estimate = estimate_light(image, mask, method, ceiling);
     result.stats.seconds["light"] = stopwatch.seconds();
     result.stats.light_estimated = true;
+    result.stats.light_uncertainty = estimate.uncertainty * 180.0 / M_PI;
     direction = estimate.light;
     // The estimators' albedo assumes a sphere's normals; a relief's comes from its median.
     if (!albedo && options.scene == SceneKind::Object) albedo = estimate.albedo;

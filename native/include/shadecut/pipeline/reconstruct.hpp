@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -134,6 +135,9 @@ struct ReconstructStats {
   int cycles = 0;
   int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps, upwind rounds; 0 for lee_rosenfeld
   bool light_estimated = false;             ///< whether the light (and, without a given albedo, the albedo) was estimated
+  /// degrees: how far the estimated light may be off (LightEstimate::uncertainty), NaN
+  /// when the light was given or its estimator does not know it
+  double light_uncertainty = std::numeric_limits<double>::quiet_NaN();
   int moves = 0;                            ///< expansion moves, summed over the levels
   int accepted_moves = 0;
   int levels = 0;                           ///< graphcut, graphcut_two: resolutions solved (coarse to fine)
