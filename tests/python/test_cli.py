@@ -76,3 +76,23 @@ def test_the_paper_s_energy_alone_from_the_command_line(tmp_path):
         np.testing.assert_allclose(shadecut.load_image(out / "depth.exr").image, expected, atol=1e-4)
     bad = run(tmp_path / "bumps.exr", "--light", "1,0,1", "--viscosity-weight", -1, "--out", tmp_path / "bad")
     assert bad.returncode == 2 and "viscosity_weight" in bad.stderr
+
+
+def test_flip_writes_the_other_orientation_and_the_report_says_when_it_is_ambiguous(tmp_path):
+    """A ball lit from the camera: the report says the image cannot choose; --flip writes
+    shadecut.flip's inversion of the same result."""
+    ball = synthetic.sphere((0.0, 0.0, 1.0), size=64)
+    shadecut.save_image(tmp_path / "ball.exr", ball.image, ball.mask)
+    loaded = shadecut.load_image(tmp_path / "ball.exr")
+    expected = shadecut.reconstruct(loaded.image, (0.0, 0.0, 1.0), loaded.mask, 1.0)
+    flipped_depth, _ = shadecut.flip(expected.depth, expected.normals, expected.mask)
+    for flags, depth in (((), expected.depth), (("--flip",), flipped_depth)):
+        out = tmp_path / ("flipped" if flags else "kept")
+        done = run(tmp_path / "ball.exr", "--light", "0,0,1", "--albedo", 1, "--out", out, "--quiet", *flags)
+        assert done.returncode == 0, done.stderr
+        assert "orientation " + ("flipped; " if flags else "") + "ambiguous" in done.stdout
+        np.testing.assert_allclose(shadecut.load_image(out / "depth.exr").image[loaded.mask], depth[loaded.mask], atol=1e-4)
+    lit_aside = synthetic.sphere((1.0, 0.0, 1.0), size=64)
+    shadecut.save_image(tmp_path / "aside.exr", lit_aside.image, lit_aside.mask)
+    oblique = run(tmp_path / "aside.exr", "--light", "1,0,1", "--albedo", 1, "--out", tmp_path / "oblique", "--quiet")
+    assert "orientation read from the image" in oblique.stdout

@@ -192,8 +192,8 @@ LightMethod light_method_used(const ReconstructOptions& options);
 
 /// A result is ambiguous in its orientation (ReconstructStats::orientation_ambiguous) when its
 /// inversion renders less than this many times as far from the image (mean squared residual) as the
-/// result: under a frontal light both render alike (ratio 1); a 128-px sphere lit from 5 degrees off
-/// the viewer gives about 5, from 10 degrees about 20 (docs/method.md, "Orientation").
+/// result: under a frontal light both render alike (ratio 1); a 128-px sphere lit from 2, 5 and 10
+/// degrees off the viewer gives 1.4, 5.0 and 21 (docs/method.md, "10. Orientation").
 constexpr double kAmbiguousResidualRatio = 2.0;
 
 /// What reconstruct() hands global_step for the graph-cut methods (graphcut, graphcut_two): the
