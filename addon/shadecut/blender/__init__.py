@@ -1,7 +1,7 @@
 """The Blender side of ShadeCut: operators, panels and helpers that need ``bpy``.
 
 Nothing outside this subpackage imports it, so ``import shadecut`` keeps working without Blender.
-The modules: one per operator (``reconstruct_operator``, ``render_operator``), their settings on
+The modules: one per operator (``reconstruct_operator``, ``render_operator``, ``flip_operator``), their settings on
 the scene (``properties``), the sidebar (``panels``, with its ``light_preview``), the add-on's
 ``preferences``, and the helpers the operators use (``frames``, ``lambertian``, ``mesh``,
 ``result``). Every class is registered from :data:`CLASSES` below.
@@ -10,6 +10,7 @@ the scene (``properties``), the sidebar (``panels``, with its ``light_preview``)
 import bpy
 
 from . import light_preview
+from .flip_operator import SHADECUT_OT_flip
 from .panels import (SHADECUT_PT_advanced_image, SHADECUT_PT_advanced_view3d, SHADECUT_PT_reconstruct_image,
                      SHADECUT_PT_reconstruct_view3d, SHADECUT_PT_render_view3d)
 from .preferences import ShadeCutPreferences
@@ -25,6 +26,7 @@ CLASSES = (
     ShadeCutRenderSettings,
     SHADECUT_OT_reconstruct,
     SHADECUT_OT_render_lambertian,
+    SHADECUT_OT_flip,
     SHADECUT_PT_reconstruct_view3d,
     SHADECUT_PT_reconstruct_image,
     SHADECUT_PT_advanced_view3d,

@@ -15,6 +15,7 @@ import bpy
 import numpy as np
 
 from .. import api, imaging
+from .flip_operator import RESULT_PROPERTY
 from .frames import FrameError, light_in_camera_frame
 from .preferences import addon_preferences
 from .mesh import MeshError, vertex_step
@@ -354,7 +355,18 @@ def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
                               f"material '{material.name}' of '{obj.name}': {job.options['method']} in "
                               f"{time.perf_counter() - job.started:.1f} s, {job.light_origin} ({light}), "
                               f"albedo {result.albedo:.3f}")
+    report_orientation(operator, result)
     return {"FINISHED"}
+
+
+AMBIGUOUS_WARNING = ("The image cannot tell this shape from its inversion (a dome from a hollow: the light is "
+                     "near the viewer); the outline chose. If it came out the wrong way, click Flip")
+
+
+def report_orientation(operator, result) -> None:
+    """Warns when the image could not choose the result's orientation (stats.orientation_ambiguous)."""
+    if result.stats.orientation_ambiguous:
+        operator.report({"WARNING"}, AMBIGUOUS_WARNING)
 
 
 def discard_job(job: Job) -> None:
@@ -406,6 +418,8 @@ def finish_job(operator, context, job: Job) -> set[str]:
     operator.report({"INFO"}, f"'{obj.name}': {source}{job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
                               f"{job.light_origin} ({light}), albedo {result.albedo:.3f}, "
                               f"{len(obj.data.vertices):,} vertices (density {step})")
+    obj[RESULT_PROPERTY] = True
+    report_orientation(operator, result)
     return {"FINISHED"}
 
 
