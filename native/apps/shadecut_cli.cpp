@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
               << result.stats.seconds.at("total") << " s\n"
               << "orientation " << (flip ? "flipped; " : "")
               << (result.stats.orientation_ambiguous
-                      ? "ambiguous: its inversion explains the image about as well (the outline chose); --flip gives it"
+                      ? "ambiguous: its inversion explains the image about as well (the outline, or a relief's rule, chose); --flip gives it"
                       : "read from the image: its inversion renders " +
                             ratio_text(result.stats.inverted_residual, result.stats.orientation_residual) + " as far from it")
               << "\n"

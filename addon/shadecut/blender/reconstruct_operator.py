@@ -360,7 +360,8 @@ def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
 
 
 AMBIGUOUS_WARNING = ("The image cannot tell this shape from its inversion (a dome from a hollow: the light is "
-                     "near the viewer); the outline chose. If it came out the wrong way, click Flip")
+                     "near the viewer); the outline, or for a relief the light from above, chose. If it came out "
+                     "the wrong way, click Flip")
 
 
 def report_orientation(operator, result) -> None:
