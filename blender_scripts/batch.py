@@ -24,7 +24,8 @@ image extension are listed as skipped.
 
 Exit code: 0 when every image was done; 1 when an image failed (each named, and listed again at the
 end); 2 for bad arguments (IN_DIR missing or not a folder, no image file in it, OUT_DIR not
-creatable, a negative --max-size), with a message and no traceback. Ctrl+C (SIGINT) stops the run:
+creatable, a negative --max-size, an output that would replace an input image, as OUT_DIR = IN_DIR
+does for x.png beside x_normal.png), with a message and no traceback: nothing is written. Ctrl+C (SIGINT) stops the run:
 the image under way is abandoned (nothing of it is written), the finished ones are kept, exit code 130.
 """
 
@@ -40,30 +41,22 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; sigint.py
+for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; sigint.py, usage.py
     if _path not in sys.path:
         sys.path.insert(0, _path)
 
 import OpenImageIO as oiio  # noqa: E402  (shadecut.dataset's writer too; in Debian's Blender and python3)
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
 from shadecut import imaging  # noqa: E402
-from sigint import handling_sigint  # noqa: E402
+from sigint import StopRequest  # noqa: E402
+from usage import Parser, UsageError  # noqa: E402
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr", ".hdr", ".bmp", ".tga")
 PROG = "batch.py"
 
 
-class UsageError(Exception):
-    """Bad arguments: reported with a message and exit code 2."""
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):
-        raise UsageError(message)
-
-
 def parse_args(argv: list[str]) -> argparse.Namespace:
-    parser = _Parser(prog="blender -b -P blender_scripts/batch.py --",
+    parser = Parser(prog="blender -b -P blender_scripts/batch.py --",
                      description="Reconstructs every image of IN_DIR into OUT_DIR (see the module docstring).")
     parser.add_argument("in_dir", type=Path, metavar="IN_DIR", help="folder of images")
     parser.add_argument("out_dir", type=Path, metavar="OUT_DIR", help="output folder (created if missing)")
@@ -109,6 +102,19 @@ def output_paths(out_dir: Path, stem: str) -> dict[str, Path]:
             "mesh": out_dir / f"{stem}.ply"}
 
 
+def check_inputs_kept(images: list[Path], out_dir: Path) -> None:
+    """UsageError when an output would replace an input image (OUT_DIR = IN_DIR, x.png beside
+    x_normal.png): it would be overwritten before it is read, and the overwritten image reconstructed."""
+    inputs = {path.resolve(): path for path in images}
+    for image in images:
+        replaced = [inputs[resolved].name for resolved in (path.resolve() for path in
+                                                           output_paths(out_dir, image.stem).values())
+                    if resolved in inputs]
+        if replaced:
+            raise UsageError(f"the outputs of {image.name} would replace the input image{'s' * (len(replaced) > 1)} "
+                             f"{', '.join(replaced)} in {out_dir}: choose another OUT_DIR, or rename the input")
+
+
 def save_normal_map(path: Path, normals: np.ndarray, mask: np.ndarray) -> None:
     """The normals as a 16-bit RGB PNG of the add-on's normal-map colours (imaging.normal_colors)."""
     colors = imaging.normal_colors(normals, mask)
@@ -142,28 +148,11 @@ def write_outputs(paths: dict[str, Path], result) -> None:
                 path.unlink()
 
 
-class _Interrupt:
-    requested = False
-
-
-def _on_sigint(signum, frame):
-    if not _Interrupt.requested:
-        print(f"{PROG}: Ctrl+C: stopping (the image under way is abandoned)", file=sys.stderr, flush=True)
-    _Interrupt.requested = True
+STOP = StopRequest(f"{PROG}: Ctrl+C: stopping (the image under way is abandoned)", always_deferred=True)
 
 
 def _progress(fraction: float, stage: str) -> bool:
-    return not _Interrupt.requested  # False: the core stops with shadecut.Cancelled
-
-
-@contextlib.contextmanager
-def stop_on_interrupt():
-    """Ctrl+C (SIGINT) only asks the run to stop; the reconstruction under way sees it through its
-    progress callback. Blender in background mode has its own C handler (which would let the run go
-    on): it is saved and put back afterwards, as make_dataset.py does."""
-    _Interrupt.requested = False
-    with handling_sigint(_on_sigint):
-        yield
+    return not STOP.requested  # False: the core stops with shadecut.Cancelled
 
 
 def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str]:
@@ -185,6 +174,7 @@ def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str]
 
 def run(args: argparse.Namespace) -> int:
     images, skipped = list_inputs(args.in_dir)
+    check_inputs_kept(images, args.out_dir)
     prepare_output(args.out_dir)
     options = shadecut.ReconstructOptions() if args.scene is None else shadecut.ReconstructOptions(scene=args.scene)
     print(f"{PROG}: {len(images)} image(s) in {args.in_dir} -> {args.out_dir}; scene {options.scene.name}, "
@@ -197,7 +187,7 @@ def run(args: argparse.Namespace) -> int:
     stems: dict[str, str] = {}
     total, start = len(images), time.perf_counter()
     for index, path in enumerate(images, 1):
-        if _Interrupt.requested:
+        if STOP.requested:
             raise KeyboardInterrupt
         began = time.perf_counter()
         label = f"[{index}/{total}] {path.name}"
@@ -235,7 +225,7 @@ def main(argv: list[str]) -> int:
     """Runs the batch with the arguments that follow "--" on Blender's command line."""
     try:
         args = parse_args(argv)
-        with stop_on_interrupt():
+        with STOP.installed():  # Ctrl+C is seen by the reconstruction's progress callback
             return run(args)
     except UsageError as error:
         print(f"{PROG}: error: {error}", file=sys.stderr, flush=True)

@@ -24,7 +24,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "addon"))
 import shadecut  # noqa: E402
 from shadecut import synthetic  # noqa: E402
-from shadecut.blender.reconstruct_operator import mesh_step  # noqa: E402
+from shadecut.blender.reconstruct_job import mesh_step  # noqa: E402
 from shadecut.blender.result import result_object  # noqa: E402
 
 LIGHT = (1.0, 0.0, 1.0)

@@ -30,6 +30,7 @@ arguments, generates the dataset and renders the 3-D surfaces with Blender.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import hashlib
 import json
 import os
@@ -43,17 +44,18 @@ from mathutils import Vector
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "addon"))
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # make_dataset.py and shapes.py
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # dataset_generator.py and shapes.py
 
-import make_dataset  # noqa: E402  (after the path inserts: the repository's scripts and package)
+import dataset_generator  # noqa: E402  (after the path inserts: the repository's scripts and package)
 import shadecut  # noqa: E402
 import shapes  # noqa: E402
 from shadecut import evaluation  # noqa: E402
-from shadecut.blender import lambertian  # noqa: E402
+from shadecut.blender import lambertian, lambertian_passes, lambertian_scene  # noqa: E402
 from shadecut.blender.mesh import depth_mesh  # noqa: E402
 
 # The sources of the generated dataset: a change to any of them gives a new dataset.
-GENERATOR_SOURCES = tuple(Path(module.__file__) for module in (make_dataset, shapes, lambertian))
+GENERATOR_SOURCES = tuple(Path(module.__file__) for module in (dataset_generator, shapes, lambertian,
+                                                                lambertian_scene, lambertian_passes))
 GENERATED_DEFAULTS = {"size": 256, "lights": 3, "seed": 0}
 
 
@@ -117,7 +119,7 @@ def generated_dataset(args: argparse.Namespace) -> Path:
     print(f"generating the dataset {folder} ({json.dumps(settings)})", flush=True)
     argv = ["--out", str(folder), "--size", str(settings["size"]), "--lights", str(settings["lights"]),
             "--seed", str(settings["seed"])] + (["--shapes", args.shapes] if args.shapes else [])
-    code = make_dataset.main(argv)
+    code = dataset_generator.main(argv)
     if code != 0:
         raise evaluation.EvaluationError(f"make_dataset.py {' '.join(argv)} failed (exit code {code})")
     complete.write_text(json.dumps(settings) + "\n")
@@ -237,6 +239,8 @@ def main(argv: list[str]) -> int:
     args = parse_args(argv)
     start = time.monotonic()
     log = lambda line: print(line, flush=True)  # noqa: E731  (progress shows while Blender runs)
+    out = args.out.resolve()
+    new_out = not out.exists()
     try:
         methods = evaluation.check_methods(args.methods.split(",") if args.methods is not None else None)
         generated_only = [f"--{k}" for k in ("size", "shapes", "lights", "seed") if getattr(args, k) is not None]
@@ -249,14 +253,17 @@ def main(argv: list[str]) -> int:
             raise evaluation.EvaluationError(f"{', '.join(given)} apply to a synthetic dataset, which --diligent "
                                              "alone does not evaluate (add --dataset DIR)")
         objects = evaluation.find_objects(args.diligent) if args.diligent is not None else []
-        out = evaluation.prepare_output(args.out.resolve())
-        figures = evaluation.prepare_output(out / "figures")
+        evaluation.prepare_output(out)
         dataset = None
         if run_dataset:
             dataset = args.dataset if args.dataset is not None else generated_dataset(args)
             evaluation.read_manifest(dataset)
         imported = evaluation.import_objects(objects, out / "diligent", log=log) if objects else {}
+        figures = evaluation.prepare_output(out / "figures")
     except evaluation.EvaluationError as error:
+        if new_out:  # a run refused before any work leaves no empty folder of its own
+            with contextlib.suppress(OSError):
+                out.rmdir()
         print(f"eval.py: error: {error}", file=sys.stderr)
         return 2
 

@@ -16,13 +16,13 @@ from pathlib import Path
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; shapes.py, make_dataset.py
+for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # shadecut; shapes.py, dataset_generator.py
     if _path not in sys.path:
         sys.path.insert(0, _path)
 
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
 import shapes  # noqa: E402
-from make_dataset import quiet_stdout  # noqa: E402
+from dataset_generator import quiet_stdout  # noqa: E402
 from shadecut.blender import lambertian  # noqa: E402
 
 LIGHT = (1.0, 0.5, 1.0)

@@ -19,6 +19,13 @@ agreement under which the brightest value is kept instead, by the same score. Th
 the threshold above which pixels count as highlights (filled from their neighbours) is scored by
 graphcut's mean angular error on the same renders, the albedo estimated.
 
+The paint separation (albedo_method retinex) is chosen by the same procedure with --retinex: the
+training surfaces painted (shadecut.synthetic.paint: patches, stripes, text, seeds of their own) and
+plain, under their own light, with sensor noise (sigma = 0.01 sqrt(I) + 0.003 per channel), scored by
+graphcut's mean angular error (true light, albedo estimated): first the two edge thresholds together,
+then the rim, then the highlight factor on the same renders with a Blinn-Phong lobe; last, retinex
+with the chosen values against top_fit decides albedo_method's default.
+
 graphcut's coarse_to_fine_radius trades speed for accuracy, so it is not chosen by the lowest error
 but, with --band-radius, as the smallest radius whose mean error on the training surfaces (at 256
 and 512 pixels, where coarse to fine runs two and three finer levels) is within
@@ -27,7 +34,8 @@ BAND_RADIUS_SLACK degrees of the band at every pixel (radius -1).
 Run: PYTHONPATH=addon /usr/bin/python3 scripts/tune_parameters.py [--methods NAME ...] [--sizes N ...]
 (every method of the grid, at 128 and 256 pixels, by default; --methods tunes only those named, by
 the same procedure; --albedo tunes only the albedo estimate; --band-radius only graphcut's
-coarse_to_fine_radius, at 256 and 512 pixels unless --sizes says otherwise; --viscosity-weight only
+coarse_to_fine_radius, at 256 and 512 pixels unless --sizes says otherwise; --retinex only the
+paint separation, at 128 pixels unless --sizes says otherwise; --viscosity-weight only
 graphcut's viscosity_weight, every other option at its default, by the same score; --fit-smoothness
 only graphcut's fit_smoothness, with fit_shading on, by the same score; --light-method only the light
 estimator used for objects without a light, and the contour estimator's ring, by graphcut's score with
@@ -270,6 +278,60 @@ def tune_light_method(surfaces: dict) -> None:
     print(f"  chosen: {min(scored)[1]}")
 
 
+RETINEX_EDGES = [(chroma, intensity) for chroma in (0.01, 0.02, 0.04, 0.08) for intensity in (0.0, 0.05, 0.1, 0.2)]
+RETINEX_RIMS = (0, 2, 4, 8)
+RETINEX_HIGHLIGHTS = (0.0, 1.0, 1.2, 1.5)
+PAINT_SEED = 100  # the tests paint with seeds below 100
+NOISE = (0.01, 0.003)  # sigma = a sqrt(I) + b, per channel
+
+
+def painted_renders(surfaces: dict, highlight: tuple = (0.0, 1.0)) -> list:
+    """(colour image, scene) for every training surface: painted with each paint and plain, noisy,
+    with a Blinn-Phong lobe of (strength, shininess) ``highlight``, clipped at 1."""
+    rng = np.random.default_rng(PAINT_SEED)
+    renders = []
+    for scenes in surfaces.values():
+        for index, scene in enumerate(scenes.values()):
+            # A highlight is the light's colour (white), added to the paint's diffuse shading.
+            lobe = with_highlight(scene, scene.light, 0.0, *highlight)[..., None]
+            for kind in (*synthetic.PAINTS, None):
+                albedo = synthetic.paint(kind, scene.image.shape[0], PAINT_SEED + index) if kind else np.ones((*scene.mask.shape, 3))
+                lit = albedo * scene.image[..., None] + lobe
+                noisy = lit + rng.normal(size=lit.shape) * (NOISE[0] * np.sqrt(np.maximum(lit, 0)) + NOISE[1])
+                renders.append((np.clip(noisy, 0.0, 1.0).astype(np.float32), scene))
+    return renders
+
+
+def tune_retinex(surfaces: dict) -> None:
+    def score(renders, **options) -> float:
+        return float(np.mean([scene.mean_error(shadecut.reconstruct(image, scene.light, scene.mask, **options).normals)
+                              for image, scene in renders]))
+
+    renders = painted_renders(surfaces)
+    chosen = {"albedo_method": "retinex", "retinex_rim": 4, "retinex_highlight": 0.0}
+    print(f"retinex: graphcut's mean error over {len(renders)} painted and plain noisy training renders")
+    scored = []
+    for chroma, intensity in RETINEX_EDGES:
+        scored.append((score(renders, **chosen, retinex_chroma_edge=chroma, retinex_intensity_edge=intensity), chroma, intensity))
+        print(f"  chroma_edge {chroma}, intensity_edge {intensity}: {scored[-1][0]:.2f} deg", flush=True)
+    _, chosen["retinex_chroma_edge"], chosen["retinex_intensity_edge"] = min(scored)
+    by_rim = []
+    for rim in RETINEX_RIMS:
+        by_rim.append((score(renders, **{**chosen, "retinex_rim": rim}), rim))
+        print(f"  rim {rim}: {by_rim[-1][0]:.2f} deg", flush=True)
+    chosen["retinex_rim"] = min(by_rim)[1]
+    shiny = painted_renders(surfaces, highlight=(0.5, 100.0)) + renders
+    by_highlight = []
+    for factor in RETINEX_HIGHLIGHTS:
+        by_highlight.append((score(shiny, **{**chosen, "retinex_highlight": factor}), factor))
+        print(f"  highlight {factor} (with highlight renders too): {by_highlight[-1][0]:.2f} deg", flush=True)
+    chosen["retinex_highlight"] = min(by_highlight)[1]
+    top_fit = score(shiny, albedo_method="top_fit")
+    retinex = min(by_highlight)[0]
+    print(f"  top_fit on the same renders: {top_fit:.2f} deg; retinex {retinex:.2f} deg")
+    print(f"  chosen: {chosen}; albedo_method default: {'retinex' if retinex < top_fit else 'top_fit'}")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--methods", nargs="+", choices=list(GRID), default=list(GRID))
@@ -281,9 +343,13 @@ def main() -> int:
     parser.add_argument("--viscosity-weight", action="store_true", help="tune only graphcut's viscosity_weight")
     parser.add_argument("--light-method", action="store_true",
                         help="choose only the object light estimator (and the contour estimator's ring)")
+    parser.add_argument("--retinex", action="store_true", help="tune only the paint separation (albedo_method retinex)")
     args = parser.parse_args()
     if args.light_method:
         tune_light_method({size: training_surfaces(size) for size in args.sizes})
+        return 0
+    if args.retinex:
+        tune_retinex({size: training_surfaces(size) for size in (args.sizes if "--sizes" in sys.argv else [128])})
         return 0
     if args.fit_smoothness:
         tune_graphcut_option({size: training_surfaces(size) for size in args.sizes}, "fit_smoothness",

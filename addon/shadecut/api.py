@@ -14,6 +14,7 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 
 from .compatibility import core_problem
+from .file_kinds import special_file_kind
 
 try:
     from . import _core
@@ -62,10 +63,11 @@ LIGHT_METHODS: tuple = tuple(_core.LIGHT_METHODS)
 class LoadedImage:
     """An image file read by :func:`load_image`."""
 
-    image: np.ndarray  # (H, W) float32 linear intensity
+    image: np.ndarray  # (H, W) float32 linear intensity (Rec. 709 luminance of a colour file)
     mask: np.ndarray  # (H, W) bool: alpha > 0.5, or all True without alpha
     has_alpha: bool
     color_space: str  # how the stored values were read: "linear" or "srgb"
+    colour: Optional[np.ndarray] = None  # (H, W, 3) float32 linear RGB of a colour file; None for grey
 
 
 def _real(values) -> np.ndarray:
@@ -109,7 +111,9 @@ def reconstruct(
     """Reconstructs normals and depth from one Lambertian image.
 
     Args:
-        image: (H, W) linear intensity, at least 2 x 2, finite, >= 0.
+        image: (H, W) linear intensity or (H, W, 3) linear RGB under one white light, at least 2 x 2,
+            finite, >= 0. The shape is read from a colour image's Rec. 709 luminance; its colour tells
+            paint from shading (``albedo_method="retinex"``) and gives ``albedo_colour``.
         light: direction toward the distant light in the camera frame, S_z > 0; normalized here.
             None = estimated from the image by the ``light_method`` option (see :func:`estimate_light`),
             and then also the albedo unless given; ``stats.light_estimated`` says so.
@@ -125,6 +129,9 @@ def reconstruct(
         a :class:`Reconstruction`: ``normals``, ``depth``, ``mask``, ``albedo``, ``light`` and
         ``stats`` (a :class:`ReconstructStats`).
     """
+    if options is not None and not isinstance(options, ReconstructOptions):
+        raise TypeError(f"shadecut: options must be a ReconstructOptions, not a {type(options).__name__}: "
+                        "options=ReconstructOptions(labels=24), or the fields as keywords (labels=24)")
     chosen = (options or ReconstructOptions()).replace(**overrides)
     return _core.reconstruct(_real(image), None if light is None else _vector3(light), _mask(mask), albedo,
                              chosen, progress)
@@ -269,18 +276,25 @@ def load_image(path: str | os.PathLike, color_space: str = "auto", max_pixels: O
     """Reads an image file as linear intensity through OpenImageIO.
 
     8/16-bit PNG, TIFF, JPEG and float EXR among others. ``color_space="auto"``: float files are
-    linear, integer files sRGB unless they say they are linear. Colour becomes Rec. 709 luminance;
-    alpha becomes the mask. Raises OSError for a missing or unreadable file, and before reading
-    any pixel for one whose header declares more than ``max_pixels`` pixels (None = 2^28).
+    linear, integer files sRGB unless they say they are linear. Colour becomes Rec. 709 luminance
+    (``image``) and is kept as linear RGB (``colour``, None for a grey file); alpha becomes the mask.
+    Raises OSError for a missing or unreadable file, for a path that is not a regular file (a named
+    pipe, a device) without opening it, and before reading any pixel for one whose header declares
+    more than ``max_pixels`` pixels (None = 2^28).
     """
     files = _image_files()
-    limit = files.DEFAULT_MAX_PIXELS if max_pixels is None else int(max_pixels)
-    image, mask, has_alpha, color_space_used = files.load_image(os.fspath(path), color_space, limit)
-    return LoadedImage(image=image, mask=mask, has_alpha=has_alpha, color_space=color_space_used)
+    # A header's width and height are 32-bit, so a limit above 2^63 (the reader's integer) is no limit.
+    limit = files.DEFAULT_MAX_PIXELS if max_pixels is None else min(int(max_pixels), 2**63 - 1)
+    kind = special_file_kind(path)
+    if kind is not None:
+        raise OSError(f'cannot read image "{os.fspath(path)}": it is {kind}, not a regular file')
+    image, mask, has_alpha, color_space_used, colour = files.load_image(os.fspath(path), color_space, limit)
+    return LoadedImage(image=image, mask=mask, has_alpha=has_alpha, color_space=color_space_used, colour=colour)
 
 
 def save_image(path: str | os.PathLike, image, mask=None) -> None:
-    """Writes linear intensity: float for .exr/.tif, 16-bit sRGB PNG otherwise (alpha = mask)."""
+    """Writes linear intensity (H, W) or linear RGB (H, W, 3): float for .exr/.tif, 16-bit sRGB PNG
+    otherwise (alpha = mask)."""
     _image_files().save_image(os.fspath(path), _real(image), _mask(mask))
 
 

@@ -33,30 +33,18 @@ z toward the viewer (Blender's camera-local axes). This module does not need ``b
 
 from __future__ import annotations
 
-import csv
-import io
 import json
-import os
-import shutil
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Optional
 
 import numpy as np
-import OpenImageIO as oiio
 
-from .api import light_direction, load_image, save_depth, save_image, save_normals
-
-FORMAT = "shadecut-dataset"
-VERSION = 1
-CONVENTIONS = (
-    "image row 0 at the top, linear intensity; camera frame x right, y up, z toward the viewer "
-    "(Blender camera-local); light points toward the light; depth.exr holds camera-frame z in scene "
-    "units (larger = closer), divide by pixel_size for pixel units; normals unit, camera frame"
-)
-MANIFEST_JSON = "manifest.json"
-MANIFEST_CSV = "manifest.csv"
-_META = "meta.json"
+from .api import light_direction, load_image
+# Part of this module's interface, written where they are built.
+from .dataset_files import (CONVENTIONS, FORMAT, MANIFEST_CSV, MANIFEST_JSON, META, VERSION,  # noqa: F401
+                            read_image_channels, write_manifest, write_sample)
+from .diligent import import_diligent  # noqa: F401
 
 
 @dataclass
@@ -77,22 +65,6 @@ class Sample:
     albedo_map: Optional[np.ndarray] = None  # (H, W) float32, when the objects kept their own colours
 
 
-def read_image_channels(path) -> tuple[np.ndarray, list[str]]:
-    """(H, W, C) float32 pixels of any image file OpenImageIO reads, row 0 at the top, and the
-    channel names (EXR stores them sorted, so "Z" of a Z + A file is not the first)."""
-    image = oiio.ImageInput.open(str(path))
-    if image is None:
-        raise OSError(f"shadecut: cannot read {path}: {oiio.geterror()}")
-    try:
-        spec = image.spec()
-        pixels = image.read_image(oiio.FLOAT)
-    finally:
-        image.close()
-    if pixels is None:
-        raise OSError(f"shadecut: cannot read the pixels of {path}")
-    return np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, -1), list(spec.channelnames)
-
-
 def _read_channels(path: Path, names: Optional[list[str]] = None) -> np.ndarray:
     """(H, W, C) pixels of an image file; ``names`` picks channels by name."""
     pixels, channel_names = read_image_channels(path)
@@ -104,109 +76,9 @@ def _read_channels(path: Path, names: Optional[list[str]] = None) -> np.ndarray:
     return pixels[..., [channel_names.index(name) for name in names]]
 
 
-def _write_mask(path: Path, mask: np.ndarray) -> None:
-    height, width = mask.shape
-    out = oiio.ImageOutput.create(str(path))
-    if out is None or not out.open(str(path), oiio.ImageSpec(width, height, 1, oiio.UINT8)):
-        raise OSError(f"shadecut: cannot write {path}: {oiio.geterror()}")
-    written = out.write_image(np.where(mask, 255, 0).astype(np.uint8)[..., None])
-    out.close()
-    if not written:
-        raise OSError(f"shadecut: cannot write {path}")
-
-
-def _json_ready(value):
-    """Numpy scalars and arrays as plain JSON values."""
-    if isinstance(value, dict):
-        return {str(k): _json_ready(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple, np.ndarray)):
-        return [_json_ready(v) for v in value]
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, Path):
-        return str(value)
-    return value
-
-
-def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: dict,
-                 shadow_mask=None, albedo_map=None) -> None:
-    """Writes one sample folder (see the module docstring) atomically.
-
-    ``depth`` is camera-frame z in scene units; ``meta`` must hold ``pixel_size`` (scene units per
-    pixel) so that readers convert it to pixel units. ``depth`` None = unknown: no depth.exr.
-    ``albedo`` None = unknown (stored as null). ``light`` is stored normalized. An existing
-    folder of the same name is replaced. The files are written into ``.<name>.partial`` beside the
-    folder, which is then renamed: an interrupted call never leaves a folder named like the sample.
-    """
-    folder = Path(folder)
-    image = np.asarray(image, dtype=np.float32)
-    if image.ndim != 2:
-        raise ValueError(f"shadecut: the image must be (H, W); got shape {image.shape}")
-    shape = image.shape
-    normals = np.asarray(normals, dtype=np.float32)
-    depth = None if depth is None else np.asarray(depth, dtype=np.float32)
-    mask = np.asarray(mask, dtype=bool)
-    if normals.shape != (*shape, 3) or (depth is not None and depth.shape != shape) or mask.shape != shape:
-        raise ValueError(f"shadecut: image {shape}, normals {normals.shape}, depth "
-                         f"{None if depth is None else depth.shape} and mask {mask.shape} must share (H, W), "
-                         "normals with 3 channels")
-    for name, extra in (("shadow_mask", shadow_mask), ("albedo_map", albedo_map)):
-        if extra is not None and np.shape(extra) != shape:
-            raise ValueError(f"shadecut: {name} has shape {np.shape(extra)}, not {shape}")
-    if depth is not None and ("pixel_size" not in meta or not float(meta["pixel_size"]) > 0):
-        raise ValueError("shadecut: meta must hold a positive 'pixel_size' (scene units per pixel) for depth.exr")
-
-    files = ["image.exr", "image.png", "normals.exr", "depth.exr", "mask.png", _META]
-    if depth is None:
-        files.remove("depth.exr")
-    if shadow_mask is not None:
-        files.insert(-1, "shadow_mask.png")
-    if albedo_map is not None:
-        files.insert(-1, "albedo.exr")
-    record = dict(meta)
-    record.update(
-        format=FORMAT,
-        version=VERSION,
-        id=meta.get("id", folder.name),
-        light=light_direction(light).tolist(),
-        albedo=None if albedo is None else float(albedo),
-        resolution=[shape[1], shape[0]],
-        conventions=CONVENTIONS,
-        files=files,
-    )
-
-    folder.parent.mkdir(parents=True, exist_ok=True)
-    partial = folder.parent / f".{folder.name}.partial"
-    shutil.rmtree(partial, ignore_errors=True)  # left by an earlier run that was killed
-    partial.mkdir()
-    try:
-        save_image(partial / "image.exr", image, mask)
-        save_image(partial / "image.png", image, mask)
-        save_normals(partial / "normals.exr", np.where(mask[..., None], normals, 0).astype(np.float32), mask)
-        if depth is not None:
-            save_depth(partial / "depth.exr", depth, mask)
-        _write_mask(partial / "mask.png", mask)
-        if shadow_mask is not None:
-            _write_mask(partial / "shadow_mask.png", np.asarray(shadow_mask, dtype=bool))
-        if albedo_map is not None:
-            save_image(partial / "albedo.exr", np.asarray(albedo_map, dtype=np.float32), mask)
-        (partial / _META).write_text(json.dumps(_json_ready(record), indent=2) + "\n")
-        if folder.exists():
-            previous = folder.parent / f".{folder.name}.previous"
-            shutil.rmtree(previous, ignore_errors=True)
-            folder.rename(previous)
-            partial.rename(folder)
-            shutil.rmtree(previous)
-        else:
-            partial.rename(folder)
-    except BaseException:
-        shutil.rmtree(partial, ignore_errors=True)
-        raise
-
-
 def is_sample(folder) -> bool:
     """True when ``folder`` is a complete sample (written by :func:`write_sample`)."""
-    return (Path(folder) / _META).is_file()
+    return (Path(folder) / META).is_file()
 
 
 # Channels each image file of a sample must hold (check_sample).
@@ -224,18 +96,18 @@ def check_sample(folder) -> Optional[str]:
     """
     folder = Path(folder)
     if not is_sample(folder):
-        return f"{folder} is not a sample (no {_META})"
+        return f"{folder} is not a sample (no {META})"
     try:
         meta = load_sample_meta(folder)
     except (OSError, ValueError) as error:
-        return f"{folder / _META} is unreadable: {error}"
+        return f"{folder / META} is unreadable: {error}"
     files, resolution = meta.get("files") if isinstance(meta, dict) else None, None
     if isinstance(meta, dict):
         resolution = meta.get("resolution")
-    if not isinstance(files, list) or _META not in files or not isinstance(resolution, list) or len(resolution) != 2:
-        return f"{folder / _META} is malformed (no list of files or no resolution)"
+    if not isinstance(files, list) or META not in files or not isinstance(resolution, list) or len(resolution) != 2:
+        return f"{folder / META} is malformed (no list of files or no resolution)"
     for name in files:
-        if name == _META:
+        if name == META:
             continue
         path = folder / str(name)
         if not path.is_file():
@@ -254,9 +126,9 @@ def check_sample(folder) -> Optional[str]:
 
 def load_sample_meta(folder) -> dict:
     """The meta.json of a sample folder, without reading its images."""
-    meta_path = Path(folder) / _META
+    meta_path = Path(folder) / META
     if not meta_path.is_file():
-        raise OSError(f"shadecut: {folder} is not a ShadeCut sample (no {_META})")
+        raise OSError(f"shadecut: {folder} is not a ShadeCut sample (no {META})")
     return json.loads(meta_path.read_text())
 
 
@@ -288,51 +160,6 @@ def load_sample(folder) -> Sample:
     )
 
 
-def _replace_text(path: Path, text: str) -> None:
-    """Writes a file through a temporary one and a rename, so readers never see half of it."""
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    temporary.write_text(text)
-    os.replace(temporary, path)
-
-
-def _csv_row(entry: dict) -> dict:
-    """A manifest entry with the light split into light_x/y/z and lists joined, for the CSV."""
-    row = {}
-    for key, value in entry.items():
-        if key == "light":
-            row.update(light_x=value[0], light_y=value[1], light_z=value[2])
-        elif isinstance(value, (list, tuple)):
-            row[key] = " ".join(str(v) for v in value)
-        elif isinstance(value, dict):
-            row[key] = json.dumps(value)
-        else:
-            row[key] = value
-    return row
-
-
-def write_manifest(dataset_dir, entries: list[dict], info: Optional[dict] = None) -> None:
-    """Writes ``manifest.json`` (``{"format", "version", "dataset": info, "samples": entries}``) and
-    ``manifest.csv`` (one row per entry, the light as light_x, light_y, light_z), each atomically."""
-    dataset_dir = Path(dataset_dir)
-    entries = [_json_ready(entry) for entry in entries]
-    for entry in entries:
-        missing = {"id", "shape", "folder", "light", "albedo", "size", "seed"} - entry.keys()
-        if missing:
-            raise ValueError(f"shadecut: manifest entry {entry.get('id')!r} lacks {sorted(missing)}")
-    document = {"format": FORMAT, "version": VERSION, "dataset": _json_ready(info or {}), "samples": entries}
-    _replace_text(dataset_dir / MANIFEST_JSON, json.dumps(document, indent=2) + "\n")
-
-    rows = [_csv_row(entry) for entry in entries]
-    columns: list[str] = []
-    for row in rows:
-        columns += [key for key in row if key not in columns]
-    text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=columns, lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    _replace_text(dataset_dir / MANIFEST_CSV, text.getvalue())
-
-
 def load_manifest(dataset_dir) -> list[dict]:
     """The entries of ``manifest.json``; ``folder`` is relative to ``dataset_dir``."""
     path = Path(dataset_dir) / MANIFEST_JSON
@@ -358,6 +185,3 @@ def load_dataset_info(dataset_dir) -> dict:
     if not isinstance(info, dict):
         raise ValueError(f'shadecut: {path} is malformed: "dataset" is not a JSON object')
     return info
-
-
-from .diligent import import_diligent  # noqa: E402, F401  (re-exported; diligent.py uses the writer above)

@@ -19,13 +19,16 @@ Needs scipy (``scipy.io.loadmat``), imported only when a folder is read.
 
 from __future__ import annotations
 
+import contextlib
 import os
+import shutil
 from pathlib import Path
 from typing import Iterable, Optional, Union
 
 import numpy as np
 
-from . import dataset as _dataset
+from . import dataset_files
+from .api import light_direction
 
 REQUIRED = ("filenames.txt", "light_directions.txt", "light_intensities.txt", "mask.png", "Normal_gt.mat")
 CITATION = ("B. Shi, Z. Wu, Z. Mo, D. Duan, S.-K. Yeung, P. Tan, \"A Benchmark Dataset and Evaluation for "
@@ -50,9 +53,13 @@ def _table(path: Path, rows: int) -> np.ndarray:
         values = np.loadtxt(path, dtype=np.float64, ndmin=2)
     except ValueError as error:
         raise ValueError(f"shadecut: {path} is not a table of numbers: {error}") from None
-    if values.shape != (rows, 3) or not np.isfinite(values).all():
+    if values.shape != (rows, 3):
         raise ValueError(f"shadecut: {path} must hold {rows} lines of 3 numbers (one per line of "
                          f"filenames.txt); it holds shape {values.shape}")
+    if not np.isfinite(values).all():
+        line = int(np.argwhere(~np.isfinite(values))[0, 0]) + 1
+        raise ValueError(f"shadecut: {path} line {line} holds a value that is not a finite number "
+                         f"({' '.join(str(value) for value in values[line - 1])})")
     return values
 
 
@@ -73,6 +80,12 @@ def read_layout(source: Union[os.PathLike, str]) -> dict:
     names = (source / "filenames.txt").read_text().split()
     if not names:
         raise ValueError(f"shadecut: {source / 'filenames.txt'} lists no image")
+    first_line = {}
+    for line, name in enumerate(names, 1):
+        if name in first_line:  # one image with two lights: which one is meant is unknown
+            raise ValueError(f"shadecut: {source / 'filenames.txt'} lists {name} twice (lines {first_line[name]} and "
+                             f"{line}); each line pairs one image with the light on the same line of the light files")
+        first_line[name] = line
     lights = _table(source / "light_directions.txt", len(names))
     intensities = _table(source / "light_intensities.txt", len(names))
     if not (intensities > 0).all():
@@ -110,14 +123,17 @@ def _normals(path: Path, shape: tuple) -> np.ndarray:
     from scipy.io import loadmat  # only here: the add-on's other modules run without scipy
 
     try:
-        normals = loadmat(str(path))["Normal_gt"]
-    except KeyError:
-        raise ValueError(f"shadecut: {path} holds no variable Normal_gt") from None
-    except (ValueError, TypeError, OSError) as error:
-        raise ValueError(f"shadecut: cannot read {path}: {error}") from None
-    if normals.shape != (*shape, 3):
-        raise ValueError(f"shadecut: {path} holds Normal_gt of shape {normals.shape}; the mask is {shape}, "
-                         f"so (H, W, 3) = {(*shape, 3)} was expected")
+        contents = loadmat(str(path))
+    except Exception as error:  # noqa: BLE001  (a damaged file raises whatever scipy's parser meets first)
+        raise ValueError(f"shadecut: cannot read {path}: it is not a readable MATLAB file "
+                         f"({type(error).__name__}: {error})") from None
+    if "Normal_gt" not in contents:
+        raise ValueError(f"shadecut: {path} holds no variable Normal_gt")
+    normals = contents["Normal_gt"]
+    if not (isinstance(normals, np.ndarray) and normals.dtype.kind in "fiu" and normals.shape == (*shape, 3)):
+        raise ValueError(f"shadecut: {path} holds Normal_gt of shape {np.shape(normals)} "
+                         f"({np.asarray(normals).dtype}); the mask is {shape}, so numbers of shape (H, W, 3) = "
+                         f"{(*shape, 3)} were expected")
     return np.nan_to_num(np.asarray(normals, dtype=np.float32))
 
 
@@ -127,11 +143,32 @@ def read_photo(source: Union[os.PathLike, str], name: str, intensity) -> np.ndar
     The PNG's 16-bit codes are read as they are stored (code / 65535, no colour conversion).
     """
     path = Path(source) / name
-    pixels, channels = _dataset.read_image_channels(path)
+    pixels, channels = dataset_files.read_image_channels(path)
     if pixels.shape[-1] < 3:
         raise ValueError(f"shadecut: {path} has channels {channels}; DiLiGenT's photographs are RGB")
     rgb = pixels[..., :3].astype(np.float64) / np.asarray(intensity, dtype=np.float64)
     return rgb.mean(axis=-1).astype(np.float32)
+
+
+def _import_photo(source: Path, folder: Path, name: str, layout: dict, mask: np.ndarray,
+                  normals: np.ndarray) -> dict:
+    """Writes the sample of photograph ``name`` into ``folder``; returns its manifest entry."""
+    index = layout["names"].index(name)
+    image = read_photo(source, name, layout["intensities"][index])
+    if image.shape != mask.shape:
+        raise ValueError(f"shadecut: {source / name} is {image.shape[1]} x {image.shape[0]} pixels; "
+                         f"the mask is {mask.shape[1]} x {mask.shape[0]}")
+    obj = object_name(source)
+    light = light_direction(layout["lights"][index]).tolist()
+    meta = {"id": folder.name, "shape": obj, "pixel_size": PIXEL_SIZE, "source": "DiLiGenT",
+            "citation": CITATION, "source_folder": str(source.resolve()), "source_image": name,
+            "light_index": index, "light_intensity": layout["intensities"][index].tolist(),
+            "image_rule": "mean over R, G, B of channel / light intensity, linear",
+            "camera": "perspective, nearly orthographic (focal length about 3772 px, object about 1.5 m away)"}
+    dataset_files.write_sample(folder, image=image, normals=normals, depth=None, mask=mask, light=light,
+                               albedo=None, meta=meta)
+    return {"id": folder.name, "shape": obj, "folder": folder.name, "light": light, "albedo": None,
+            "size": mask.shape[1], "seed": None, "source_image": name}
 
 
 def import_diligent(source: Union[os.PathLike, str], out: Union[os.PathLike, str],
@@ -149,7 +186,7 @@ def import_diligent(source: Union[os.PathLike, str], out: Union[os.PathLike, str
     source, out = Path(source), Path(out)
     layout = read_layout(source)
     chosen = _select(layout, images, source)
-    mask_pixels, _ = _dataset.read_image_channels(source / "mask.png")
+    mask_pixels, _ = dataset_files.read_image_channels(source / "mask.png")
     mask = mask_pixels[..., 0] > 0.5
     if not mask.any():
         raise ValueError(f"shadecut: the mask {source / 'mask.png'} is empty")
@@ -157,24 +194,23 @@ def import_diligent(source: Union[os.PathLike, str], out: Union[os.PathLike, str
     normals = np.where(mask[..., None], normals, 0).astype(np.float32)
     obj = object_name(source)
 
-    entries = []
-    for name in chosen:
-        index = layout["names"].index(name)
-        image = read_photo(source, name, layout["intensities"][index])
-        if image.shape != mask.shape:
-            raise ValueError(f"shadecut: {source / name} is {image.shape[1]} x {image.shape[0]} pixels; "
-                             f"the mask is {mask.shape[1]} x {mask.shape[0]}")
-        sample_id = f"{obj}_{Path(name).stem}"
-        light = _dataset.light_direction(layout["lights"][index]).tolist()
-        meta = {"id": sample_id, "shape": obj, "pixel_size": PIXEL_SIZE, "source": "DiLiGenT",
-                "citation": CITATION, "source_folder": str(source.resolve()), "source_image": name,
-                "light_index": index, "light_intensity": layout["intensities"][index].tolist(),
-                "image_rule": "mean over R, G, B of channel / light intensity, linear",
-                "camera": "perspective, nearly orthographic (focal length about 3772 px, object about 1.5 m away)"}
-        _dataset.write_sample(out / sample_id, image=image, normals=normals, depth=None, mask=mask, light=light,
-                              albedo=None, meta=meta)
-        entries.append({"id": sample_id, "shape": obj, "folder": sample_id, "light": light, "albedo": None,
-                        "size": mask.shape[1], "seed": None, "source_image": name})
-    _dataset.write_manifest(out, entries, {"generator": "shadecut.dataset.import_diligent", "source": "DiLiGenT",
-                                           "source_folder": str(source.resolve()), "citation": CITATION})
+    entries, new_samples, new_out = [], [], not out.exists()
+    try:
+        for name in chosen:
+            folder = out / f"{obj}_{Path(name).stem}"
+            if not folder.exists():
+                new_samples.append(folder)
+            entries.append(_import_photo(source, folder, name, layout, mask, normals))
+    except BaseException:
+        # No manifest would list what this call wrote: the samples new to ``out`` go (and ``out``, if
+        # this call made it); one that replaced a sample of the same name stays, complete, where an
+        # earlier manifest lists it.
+        for folder in new_samples:
+            shutil.rmtree(folder, ignore_errors=True)
+        if new_out:
+            with contextlib.suppress(OSError):
+                out.rmdir()
+        raise
+    dataset_files.write_manifest(out, entries, {"generator": "shadecut.dataset.import_diligent", "source": "DiLiGenT",
+                                                "source_folder": str(source.resolve()), "citation": CITATION})
     return entries

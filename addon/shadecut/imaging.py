@@ -40,25 +40,35 @@ def intensity_and_mask(rgba: np.ndarray, *, srgb_encoded: bool) -> tuple[np.ndar
     return intensity, mask, bool((rgba[..., 3] < 1.0).any())
 
 
-def downsample(image: np.ndarray, mask: np.ndarray, max_size: int) -> tuple[np.ndarray, np.ndarray, int]:
-    """Shrinks an image by an integer factor until neither side exceeds ``max_size`` pixels.
+def shrink_factor(height: int, width: int, max_size: int) -> int:
+    """The smallest whole factor that brings neither side above ``max_size`` pixels (1 when the image
+    fits, or for max_size 0: no limit); ValueError when fewer than 2 x 2 pixels would remain."""
+    if max_size <= 0 or max(height, width) <= max_size:
+        return 1
+    factor = math.ceil(max(height, width) / max_size)
+    if height // factor < 2 or width // factor < 2:
+        raise ValueError(f"a working size of {max_size} px leaves fewer than 2 x 2 pixels of the {width} x {height} image")
+    return factor
 
-    Each output pixel averages the masked pixels of its factor x factor block and is in the mask
+
+def shrink(image: np.ndarray, mask: np.ndarray, factor: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each output pixel averages the masked pixels of its factor x factor block and is in the mask
     when at least half of the block is (0 elsewhere). Trailing rows/columns that do not fill a block
-    are dropped.
+    are dropped, so an image shrunk in bands of whole blocks gives the same result."""
+    if factor == 1:
+        return image, mask
+    return _core.downsample(np.asarray(image, dtype=np.float32), np.asarray(mask, dtype=bool), factor, MASK_COVERAGE)
+
+
+def downsample(image: np.ndarray, mask: np.ndarray, max_size: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """Shrinks an image by an integer factor until neither side exceeds ``max_size`` pixels
+    (:func:`shrink_factor`, :func:`shrink`).
 
     Returns:
         image (h, w) float32, mask (h, w) bool, factor (1 = unchanged; 0 for max_size means no limit).
     """
-    height, width = mask.shape
-    if max_size <= 0 or max(height, width) <= max_size:
-        return image, mask, 1
-    factor = math.ceil(max(height, width) / max_size)
-    if height // factor < 2 or width // factor < 2:
-        raise ValueError(f"a working size of {max_size} px leaves fewer than 2 x 2 pixels of the {width} x {height} image")
-    small, small_mask = _core.downsample(np.asarray(image, dtype=np.float32), np.asarray(mask, dtype=bool), factor,
-                                         MASK_COVERAGE)
-    return small, small_mask, factor
+    factor = shrink_factor(*mask.shape, max_size)
+    return (*shrink(image, mask, factor), factor)
 
 
 # The colour of an untilted normal (0, 0, 1): where a normal map has no normal.

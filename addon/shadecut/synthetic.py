@@ -136,7 +136,10 @@ def egg_crate(light: Sequence[float], size: int = 128, periods: float = 2.0, amp
 
 def read_depth_text(path: str | os.PathLike, size: int = 256) -> np.ndarray:
     """A size x size depth map stored as one decimal number per line, row-major, row 0 at the top."""
-    depth = np.loadtxt(path, dtype=np.float64)
+    try:
+        depth = np.loadtxt(path, dtype=np.float64)
+    except (UnicodeDecodeError, ValueError) as error:  # a picture or another binary file given by mistake
+        raise ValueError(f"shadecut: {path} is not a text file of numbers (one depth per line): {error}") from None
     if depth.size != size * size:
         raise ValueError(f"shadecut: {path} holds {depth.size} values, not {size} x {size}")
     return depth.reshape(size, size)
@@ -172,3 +175,67 @@ def bricks(light: Sequence[float], size: int = 256, brick: tuple = (32, 12), mor
     image = render(normals.astype(np.float32), light, 1.0, mask) * (albedo * variation).astype(np.float32)
     return Scene(image.astype(np.float32), normals.astype(np.float32), depth.astype(np.float32), mask, tuple(light),
                  albedo)
+
+
+PAINTS = ("patches", "stripes", "text")
+_SUPERSAMPLE = 4  # paint drawn at 4x and averaged: anti-aliased edges, as a camera sees them
+
+
+def _paint_colours(rng: np.random.Generator, count: int) -> np.ndarray:
+    """``count`` linear RGB paints of random hue, saturation 0.1-0.8 and value 0.35-1."""
+    import colorsys
+
+    return np.array([colorsys.hsv_to_rgb(rng.random(), rng.uniform(0.1, 0.8), rng.uniform(0.35, 1.0))
+                     for _ in range(count)])
+
+
+def _downsampled(big: np.ndarray, size: int) -> np.ndarray:
+    return big[: size * _SUPERSAMPLE, : size * _SUPERSAMPLE].reshape(size, _SUPERSAMPLE, size, _SUPERSAMPLE, 3).mean(axis=(1, 3))
+
+
+def paint(kind: str, size: int, seed: int) -> np.ndarray:
+    """A (size, size, 3) linear RGB albedo in (0, 1]: ``"patches"`` (Voronoi cells of 8 paints),
+    ``"stripes"`` (bands of 3 paints at a random angle and width) or ``"text"`` (dark words on a light
+    ground, drawn by matplotlib), anti-aliased. The same seed gives the same paint."""
+    rng = np.random.default_rng(seed)
+    n = size * _SUPERSAMPLE
+    y, x = (np.mgrid[0:n, 0:n] + 0.5) / n
+    if kind == "patches":
+        seeds, colours = rng.random((8, 2)), _paint_colours(rng, 8)
+        nearest = ((x[..., None] - seeds[:, 0]) ** 2 + (y[..., None] - seeds[:, 1]) ** 2).argmin(axis=2)
+        return _downsampled(colours[nearest], size)
+    if kind == "stripes":
+        angle, width, colours = rng.uniform(0, np.pi), rng.uniform(0.06, 0.15), _paint_colours(rng, 3)
+        band = np.floor((x * np.cos(angle) + y * np.sin(angle)) / width).astype(int) % 3
+        return _downsampled(colours[band], size)
+    if kind == "text":
+        return _text_paint(size, rng)
+    raise ValueError(f"shadecut: unknown paint {kind!r}; expected one of {PAINTS}")
+
+
+def _text_paint(size: int, rng: np.random.Generator) -> np.ndarray:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg  # only here: the add-on runs without it
+    from matplotlib.figure import Figure
+
+    n = size * _SUPERSAMPLE
+    figure = Figure(figsize=(1, 1), dpi=n)
+    FigureCanvasAgg(figure)
+    axes = figure.add_axes([0, 0, 1, 1])
+    axes.axis("off")
+    ground, ink = _paint_colours(rng, 2)
+    figure.patch.set_facecolor(np.clip(ground + 0.3, 0, 1))
+    words = ("SHADE", "CUT", "PAINT", "GRAPH", "LIGHT", "ALBEDO", "ZEBRA", "PRINT")
+    for row in range(4):
+        axes.text(rng.uniform(0.0, 0.2), 0.15 + 0.22 * row, " ".join(rng.choice(words, 2)), color=ink * 0.5,
+                  fontsize=size * 0.09, fontweight="bold", transform=axes.transAxes)
+    figure.canvas.draw()
+    encoded = np.asarray(figure.canvas.buffer_rgba())[..., :3].astype(np.float64) / 255.0
+    return _downsampled(encoded**2.2, size)  # the canvas is sRGB-like: back to linear
+
+
+def painted(scene: Scene, kind: str, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """``scene`` (rendered with albedo 1) painted with :func:`paint`: (the colour image (H, W, 3), the
+    true albedo (H, W, 3)), both float32; the shading is the scene's, the light white."""
+    albedo = paint(kind, scene.image.shape[0], seed)
+    colour = albedo * (scene.image / scene.albedo)[..., None]
+    return colour.astype(np.float32), albedo.astype(np.float32)

@@ -40,7 +40,8 @@ std::string usage() {
   text << R"(usage: shadecut IMAGE [--light X,Y,Z] [options]
 
 Reconstructs a surface from one shaded image (shape from shading using graph cuts) and writes
-depth.exr, depth.png, normals.exr, normals.png and mesh.ply to the output folder.
+depth.exr, depth.png, normals.exr, normals.png, mesh.ply and the albedo per pixel, albedo.exr and
+albedo.png (in colour for a colour image), to the output folder.
 
 Conventions (docs/conventions.md): x right, y up, z toward the viewer; the light points from the
 surface toward the light, e.g. 1,0,1 = from the right-front. The image's alpha channel, if any, is
@@ -57,7 +58,9 @@ options:
   --seamless           with --scene relief: depth and normals that tile (a seamless texture)
   --out DIR            output folder (default shadecut_out)
   --method NAME        )" << choices(shadecut::method_names()) << " (default " << shadecut::to_string(defaults.method) << R"()
-  --albedo A           albedo (default: read from the shading, robust to highlights)
+  --albedo A           albedo (default: read from the image by --albedo-method)
+  --albedo-method NAME )" << choices(shadecut::albedo_method_names()) << " (default " << shadecut::to_string(defaults.albedo_method) << R"(): one
+                       albedo, or retinex: the paint separated from the shading, one per pixel
   --labels K           tilt labels (default )" << defaults.labels << R"()
   --data-weight L      data weight lambda of graphcut (default )" << defaults.data_weight << R"()
   --integrator NAME    )" << choices(shadecut::integrator_names()) << " (default " << shadecut::to_string(defaults.integrator) << R"()
@@ -180,6 +183,8 @@ int main(int argc, char** argv) {
         options.method = shadecut::parse_method(value());
       } else if (arg == "--albedo") {
         albedo = parse_number(arg, value());
+      } else if (arg == "--albedo-method") {
+        options.albedo_method = shadecut::parse_albedo_method(value());
       } else if (arg == "--labels") {
         options.labels = parse_integer(arg, value());
       } else if (arg == "--data-weight") {
@@ -232,7 +237,10 @@ int main(int argc, char** argv) {
         return true;
       };
     }
-    shadecut::Reconstruction result = shadecut::reconstruct(input.intensity, light, &input.mask, albedo, options);
+    const bool colour = input.colour.channel[0].size() > 0;
+    shadecut::Reconstruction result =
+        colour ? shadecut::reconstruct(input.colour, light, &input.mask, albedo, options)
+               : shadecut::reconstruct(input.intensity, light, &input.mask, albedo, options);
     if (flip) shadecut::flip_surface(result.depth, result.normals, result.mask);
 
     std::filesystem::create_directories(out_dir);
@@ -242,6 +250,10 @@ int main(int argc, char** argv) {
     shadecut::save_normals((out / "normals.exr").string(), result.normals, result.mask);
     shadecut::save_normals((out / "normals.png").string(), result.normals, result.mask);
     shadecut::save_mesh((out / "mesh.ply").string(), result.depth, result.mask);
+    for (const char* name : {"albedo.exr", "albedo.png"}) {
+      if (colour) shadecut::save_image((out / name).string(), result.albedo_colour, &result.mask);
+      else shadecut::save_image((out / name).string(), result.albedo_map, &result.mask);
+    }
 
     const Eigen::Vector3d& used = result.light;
     std::cout << "light " << used.x() << "," << used.y() << "," << used.z()
@@ -255,7 +267,7 @@ int main(int argc, char** argv) {
                       : "read from the image: its inversion renders " +
                             ratio_text(result.stats.inverted_residual, result.stats.orientation_residual) + " as far from it")
               << "\n"
-              << "wrote depth.exr depth.png normals.exr normals.png mesh.ply to " << out.string() << "\n";
+              << "wrote depth.exr depth.png normals.exr normals.png mesh.ply albedo.exr albedo.png to " << out.string() << "\n";
     return 0;
   } catch (const shadecut::InvalidArgument& e) {
     fail(e.what());

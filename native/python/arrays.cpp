@@ -27,6 +27,28 @@ ImageF to_image(const FloatArray& a, const char* what) {
   return image;
 }
 
+ColourImage to_colour(const FloatArray& a, const char* what) {
+  if (a.ndim() != 3 || a.shape(2) != 3)
+    throw InvalidArgument(std::string("shadecut: the ") + what + " must be (H, W) or (H, W, 3); got shape " + shape_of(a));
+  ColourImage colour;
+  const float* data = a.data();
+  for (int k = 0; k < 3; ++k) {
+    ImageF& channel = colour.channel[std::size_t(k)];
+    channel.resize(a.shape(0), a.shape(1));
+    for (Eigen::Index i = 0; i < channel.size(); ++i) channel.data()[i] = data[3 * i + k];
+  }
+  return colour;
+}
+
+pybind11::object from_colour(const ColourImage& colour) {
+  if (colour.channel[0].size() == 0) return pybind11::none();
+  pybind11::array_t<float> out({colour.rows(), colour.cols(), Eigen::Index(3)});
+  float* data = out.mutable_data();
+  for (int k = 0; k < 3; ++k)
+    for (Eigen::Index i = 0; i < colour.channel[std::size_t(k)].size(); ++i) data[3 * i + k] = colour.channel[std::size_t(k)].data()[i];
+  return std::move(out);
+}
+
 std::optional<Mask> to_mask(const std::optional<BoolArray>& a) {
   if (!a) return std::nullopt;
   if (a->ndim() != 2) throw InvalidArgument("shadecut: the mask must be a 2-D array (H, W); got shape " + shape_of(*a));

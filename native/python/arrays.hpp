@@ -16,6 +16,8 @@ using FloatArray = pybind11::array_t<float, pybind11::array::c_style | pybind11:
 using BoolArray = pybind11::array_t<bool, pybind11::array::c_style | pybind11::array::forcecast>;
 
 ImageF to_image(const FloatArray& array, const char* what);
+/// An (H, W, 3) array as a colour image.
+ColourImage to_colour(const FloatArray& array, const char* what);
 std::optional<Mask> to_mask(const std::optional<BoolArray>& array);
 /// The mask, or every pixel of a rows x cols image when there is none.
 Mask mask_or_all(const std::optional<BoolArray>& array, Eigen::Index rows, Eigen::Index cols);
@@ -25,5 +27,7 @@ Eigen::Vector3d to_vector3(const std::vector<double>& values, const char* what);
 pybind11::array_t<float> from_image(const ImageF& image);
 pybind11::array_t<bool> from_mask(const Mask& mask);
 pybind11::array_t<float> from_normals(const NormalMap& normals);
+/// (H, W, 3); None for a colour image without channels.
+pybind11::object from_colour(const ColourImage& colour);
 
 }  // namespace shadecut::python

@@ -110,6 +110,10 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "smoothness", &ReconstructOptions::smoothness);
   enum_option(options, names, "light_method", &ReconstructOptions::light_method, &parse_light_method);
   enum_option(options, names, "albedo_method", &ReconstructOptions::albedo_method, &parse_albedo_method);
+  option(options, names, "retinex_chroma_edge", &ReconstructOptions::retinex_chroma_edge);
+  option(options, names, "retinex_intensity_edge", &ReconstructOptions::retinex_intensity_edge);
+  option(options, names, "retinex_rim", &ReconstructOptions::retinex_rim);
+  option(options, names, "retinex_highlight", &ReconstructOptions::retinex_highlight);
   option(options, names, "highlight_threshold", &ReconstructOptions::highlight_threshold);
   option(options, names, "min_curvature", &ReconstructOptions::min_curvature);
   option(options, names, "refine", &ReconstructOptions::refine);
@@ -217,7 +221,13 @@ void bind_reconstruct(py::module_& m) {
         const Mask& mask = self.cast<const Reconstruction&>().mask;
         return py::array_t<bool>({mask.rows(), mask.cols()}, mask.data(), self);
       }, "(H, W) bool, the pixels reconstructed")
-      .def_readonly("albedo", &Reconstruction::albedo, "the albedo used (given or estimated)")
+      .def_readonly("albedo", &Reconstruction::albedo, "the albedo used (given or estimated; of the brightest paint with retinex)")
+      .def_property_readonly("albedo_map", [](const py::object& self) {
+        const ImageF& a = self.cast<const Reconstruction&>().albedo_map;
+        return view(self, {a.rows(), a.cols()}, a.data());
+      }, "(H, W) float32 albedo per pixel (the albedo everywhere unless retinex), 0 outside the mask")
+      .def_property_readonly("albedo_colour", [](const Reconstruction& r) { return from_colour(r.albedo_colour); },
+                             "(H, W, 3) float32 de-lit colour of a colour image (albedo_map times its chromaticity); None for grey")
       .def_property_readonly("light", [](const Reconstruction& r) {
         return py::array_t<double>(3, r.light.data());
       }, "(3,) unit vector toward the light used, camera frame")
@@ -230,7 +240,6 @@ void bind_reconstruct(py::module_& m) {
       [](const FloatArray& image_array, const std::optional<std::vector<double>>& light,
          const std::optional<BoolArray>& mask_array, std::optional<double> albedo, ReconstructOptions options,
          const std::optional<py::function>& progress) {
-        const ImageF image = to_image(image_array, "image");
         const std::optional<Mask> mask = to_mask(mask_array);
         if (progress) {
           options.progress = [callback = *progress](double fraction, const std::string& stage) {
@@ -241,6 +250,15 @@ void bind_reconstruct(py::module_& m) {
         }
         std::optional<Eigen::Vector3d> light_vector;
         if (light) light_vector = to_vector3(*light, "light");
+        if (image_array.ndim() != 2 && image_array.ndim() != 3)
+          throw InvalidArgument("shadecut: the image must be (H, W) intensity or (H, W, 3) RGB; got " +
+                                std::to_string(image_array.ndim()) + " dimension(s)");
+        if (image_array.ndim() == 3) {
+          const ColourImage colour = to_colour(image_array, "image");
+          py::gil_scoped_release release;
+          return reconstruct(colour, light_vector, mask ? &*mask : nullptr, albedo, options);
+        }
+        const ImageF image = to_image(image_array, "image");
         py::gil_scoped_release release;
         return reconstruct(image, light_vector, mask ? &*mask : nullptr, albedo, options);
       },

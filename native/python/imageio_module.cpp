@@ -27,12 +27,14 @@ PYBIND11_MODULE(_imageio, m) {
   m.attr("DEFAULT_MAX_PIXELS") = shadecut::kDefaultMaxPixels;
   m.def("load_image", [](const std::string& path, const std::string& color_space, std::int64_t max_pixels) {
     const shadecut::LoadedImage loaded = shadecut::load_image(path, shadecut::parse_color_space(color_space), max_pixels);
-    return py::make_tuple(from_image(loaded.intensity), from_mask(loaded.mask), loaded.has_alpha, loaded.color_space);
+    return py::make_tuple(from_image(loaded.intensity), from_mask(loaded.mask), loaded.has_alpha, loaded.color_space,
+                          from_colour(loaded.colour));
   });
 
   m.def("save_image", [](const std::string& path, const FloatArray& image, const std::optional<BoolArray>& alpha) {
     const std::optional<Mask> mask = to_mask(alpha);
-    shadecut::save_image(path, to_image(image, "image"), mask ? &*mask : nullptr);
+    if (image.ndim() == 3) shadecut::save_image(path, to_colour(image, "image"), mask ? &*mask : nullptr);
+    else shadecut::save_image(path, to_image(image, "image"), mask ? &*mask : nullptr);
   });
 
   m.def("save_depth", [](const std::string& path, const FloatArray& depth, const std::optional<BoolArray>& mask) {

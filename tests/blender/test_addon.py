@@ -1,7 +1,6 @@
-"""The add-on inside a real Blender: registration, the operator end to end, errors, light frames."""
+"""The add-on inside a real Blender: the operator end to end, working sizes, pixels, light frames."""
 
 import math
-import re
 
 import bpy
 import numpy as np
@@ -9,8 +8,8 @@ import pytest
 from mathutils import Euler, Vector
 
 import shadecut
-from shadecut import synthetic
-from shadecut.blender import frames, reconstruct_operator
+from shadecut import imaging, synthetic
+from shadecut.blender import frames, image_input, reconstruct_job
 from shadecut.blender.mesh import vertex_step
 
 LIGHT = (1.0, 0.0, 1.0)
@@ -49,7 +48,7 @@ def test_reconstruct_builds_the_core_surface(addon, sphere_png):
     objects_before = set(bpy.data.objects)
 
     # The core run on exactly the arrays the operator hands over.
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     np.testing.assert_allclose(job.light, np.array(LIGHT) / math.sqrt(2), atol=1e-6)
     core = shadecut.reconstruct(job.image, job.light, job.mask, method="graphcut")
 
@@ -145,7 +144,29 @@ def test_default_working_size(addon, width, height, working):
     settings = bpy.context.scene.shadecut
     settings.image = image_of("photo", width, height)
     settings.light_source = "DIRECTION"
-    assert reconstruct_operator.prepare_job(bpy.context).image.shape == working
+    assert reconstruct_job.prepare_job(bpy.context).image.shape == working
+
+
+@pytest.mark.parametrize("max_size", [0, 25, 40, 70])
+def test_pixels_read_in_bands_are_those_of_the_whole_image(addon, monkeypatch, max_size):
+    """The image is converted and shrunk a band of rows at a time (so that no second full-size copy is
+    made): the same as converting the whole buffer, then shrinking it."""
+    rng = np.random.default_rng(max_size)
+    width, height = 101, 67
+    rgba = rng.random((height, width, 4)).astype(np.float32)
+    rgba[..., 3] = rgba[..., 3] > 0.2
+    image = bpy.data.images.new("noise", width, height, alpha=True, float_buffer=True)
+    image.pixels.foreach_set(rgba.ravel())
+    monkeypatch.setattr(image_input, "BAND_PIXELS", 3 * width)  # several bands, each of whole blocks
+    intensity, mask, factor = image_input.image_pixels(image, max_size)
+    stored = np.empty(len(image.pixels), np.float32)
+    image.pixels.foreach_get(stored)
+    whole = stored.reshape(height, width, image.channels)[::-1]
+    expected = imaging.downsample(*imaging.intensity_and_mask(image_input._rgba(whole), srgb_encoded=False)[:2],
+                                  max_size)
+    assert factor == expected[2]
+    np.testing.assert_array_equal(intensity, expected[0])
+    np.testing.assert_array_equal(mask, expected[1])
 
 
 def test_mesh_edges_are_those_blender_computes(addon):
@@ -197,8 +218,9 @@ def test_max_resolution_downsamples(addon, sphere_png):
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
     settings.max_resolution = 48
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     assert job.image.shape == (48, 48)
+    assert job.shrunk == ", worked at 48 x 48 (1/2 of 96 x 96: Max size 48 px)"  # said in the finish report
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
     assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(job.mask)
 
@@ -217,7 +239,8 @@ def test_blender_pixels_are_the_linear_values_load_image_reads(addon, tmp_path, 
     else:
         shadecut.save_image(path, scene.image, scene.mask)
     loaded = shadecut.load_image(path)
-    intensity, mask = reconstruct_operator.image_pixels(bpy.data.images.load(str(path)))
+    intensity, mask, factor = image_input.image_pixels(bpy.data.images.load(str(path)))
+    assert factor == 1
     np.testing.assert_allclose(intensity, loaded.image, atol=2e-4)
     np.testing.assert_array_equal(mask, loaded.mask)
 
@@ -246,246 +269,44 @@ def test_sun_direction_in_a_camera_frame(addon, camera_rotation):
     settings = bpy.context.scene.shadecut
     settings.light_source, settings.light_object, settings.frame = "OBJECT", sun, "CAMERA"
     bpy.context.scene.camera = camera
-    light, _ = reconstruct_operator._light(bpy.context, settings)
+    light, _ = reconstruct_job._light(bpy.context, settings)
     if expected[2] > 0:
         np.testing.assert_allclose(light, expected, atol=1e-6)
 
 
-def write_file(path, pixels):
-    """Writes (H, W, C) pixels with OpenImageIO (not the library, which may refuse bad images)."""
-    import OpenImageIO as oiio
-
-    pixels = np.asarray(pixels)
-    height, width, channels = pixels.shape
-    kind = "float" if pixels.dtype.kind == "f" else "uint8"
-    buffer = oiio.ImageBuf(oiio.ImageSpec(width, height, channels, kind))
-    buffer.set_pixels(oiio.ROI(), pixels)
-    assert buffer.write(str(path)), buffer.geterror()
-    return str(path)
-
-
-def _bad_file(case, tmp_path):
-    """The file of a "file ..." case, for the operator's filepath."""
-    grey = np.full((16, 16, 1), 128, np.uint8)
-    if case == "file black":
-        return write_file(tmp_path / "black.png", np.zeros((16, 16, 1), np.uint8))
-    if case == "file transparent":
-        return write_file(tmp_path / "clear.png", np.dstack([grey, np.zeros_like(grey)]))
-    if case == "file 1 x 1":
-        return write_file(tmp_path / "dot.png", grey[:1, :1])
-    if case == "file 200 x 1":
-        return write_file(tmp_path / "line.png", np.full((1, 200, 1), 128, np.uint8))
-    if case == "file NaN":
-        pixels = np.full((16, 16, 1), 0.5, np.float32)
-        pixels[3, 4] = np.nan
-        return write_file(tmp_path / "nan.exr", pixels)
-    if case == "file directory":
-        (tmp_path / "folder.png").mkdir()
-        return str(tmp_path / "folder.png")
-    if case == "file not an image":
-        (tmp_path / "notes.png").write_text("not an image")
-        return str(tmp_path / "notes.png")
-    if case == "file missing":
-        return str(tmp_path / "missing.png")
-    if case == "file of the user's, black":
-        path = write_file(tmp_path / "black.png", np.zeros((16, 16, 1), np.uint8))
-        bpy.data.images.load(path)  # the user's own: a failure must not remove it
-        return path
-    raise KeyError(case)
+def brightest_normal_in_cycles(tmp_path, size=64):
+    """The normal of the brightest pixel of a unit sphere at the origin, rendered by Cycles (direct
+    light only) from the top: on a Lambertian sphere it is the direction toward the light."""
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48)
+    bpy.ops.object.shade_smooth()
+    camera = bpy.data.objects.new("Top", bpy.data.cameras.new("Top"))
+    camera.data.type, camera.data.ortho_scale, camera.location = "ORTHO", 2.0, (0, 0, 5)
+    scene.collection.objects.link(camera)
+    scene.camera, scene.render.engine = camera, "CYCLES"
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.cycles.device, scene.cycles.samples, scene.cycles.max_bounces = "CPU", 1, 0
+    scene.cycles.use_denoising = scene.view_layers[0].cycles.use_denoising = False
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.filepath = str(tmp_path / "top.exr")
+    bpy.ops.render.render(write_still=True)
+    red = pixels_of(bpy.data.images.load(scene.render.filepath)).reshape(size, size, 4)[..., 0]
+    row, col = np.unravel_index(red.argmax(), red.shape)  # row 0 at the bottom, as Blender stores it
+    x, y = (col + 0.5) * 2 / size - 1, (row + 0.5) * 2 / size - 1
+    return np.array([x, y, math.sqrt(max(0.0, 1 - x * x - y * y))])
 
 
-def _error_setup(case, sphere_png, tmp_path):
-    """Sets up a bad input; returns the operator's arguments."""
-    truth, path = sphere_png
-    settings = bpy.context.scene.shadecut
-    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    if case.startswith("file"):
-        return {"filepath": _bad_file(case, tmp_path)}
-    if case != "no image":
-        settings.image = bpy.data.images.load(str(path))
-    if case == "no pixels":
-        gone = tmp_path / "gone.png"
-        gone.write_bytes(path.read_bytes())
-        settings.image = bpy.data.images.load(str(gone))
-        gone.unlink()
-        settings.image.reload()
-    elif case == "dark":
-        settings.image = bpy.data.images.new("dark", 32, 32)
-        settings.image.pixels.foreach_set(np.tile([0, 0, 0, 1], 32 * 32).astype(np.float32))
-    elif case == "horizon":
-        settings.light_direction = (1, 0, 0)
-    elif case == "not a sun":
-        lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
-        bpy.context.collection.objects.link(lamp)
-        settings.light_source, settings.light_object = "OBJECT", lamp
-    elif case == "no camera":
-        settings.light_source, settings.light_object, settings.frame = "OBJECT", add_sun(LIGHT), "CAMERA"
-    elif case == "sun below":
-        settings.light_source, settings.light_object = "OBJECT", add_sun((1, 0, -1))
-    elif case == "sun scaled to zero":
-        settings.light_source, settings.light_object = "OBJECT", add_sun(LIGHT)
-        settings.light_object.scale = (0.0, 0.0, 0.0)
-    elif case == "camera scaled to zero":
-        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-        camera.scale = (1.0, 0.0, 1.0)
-        bpy.context.collection.objects.link(camera)
-        settings.light_source, settings.light_object = "OBJECT", add_sun(LIGHT)
-        settings.frame, settings.camera = "CAMERA", camera
-    elif case == "max size 1":
-        settings.max_resolution = 1
-    elif case == "width NaN":
-        settings.width = math.nan
-    elif case == "width infinite":
-        settings.width = math.inf
-    elif case == "depth scale NaN":
-        settings.depth_scale = math.nan
-    elif case == "depth scale infinite":
-        settings.depth_scale = -math.inf
-    elif case == "density of the image size":
-        settings.density = truth.mask.shape[1]
-    elif case == "density leaving no face":
-        settings.density = truth.mask.shape[1] // 2
-    elif case == "max vertices leaving no face":
-        settings.image = bpy.data.images.new("band", 64, 64, alpha=True, float_buffer=True)
-        pixels = np.zeros((64, 64, 4), np.float32)
-        pixels[30:32] = 0.5, 0.5, 0.5, 1.0  # two opaque rows: any step above 1 samples one of them
-        settings.image.pixels.foreach_set(pixels.ravel())
-        settings.max_vertices = 100
-    return {}
-
-
-@pytest.mark.parametrize("case, message", [
-    ("no image", "No image"),
-    ("no pixels", "has no pixels"),
-    ("dark", "is black"),
-    ("horizon", "at or below the horizon"),
-    ("not a sun", "point light"),
-    ("no camera", "No camera"),
-    ("sun below", "at or below the horizon"),
-    ("sun scaled to zero", "Sun 'Sun' (or a parent) is scaled to zero"),
-    ("camera scaled to zero", "Camera 'Camera' (or a parent) is scaled to zero"),
-    ("max size 1", "Max size 1 px is too small for the 96 x 96 image 'sphere.png' (fewer than 2 x 2 pixels would "
-                   "remain): use at least 2"),
-    ("width NaN", "Width must be a finite number > 0 (it is nan)"),
-    ("width infinite", "Width must be a finite number > 0"),
-    ("depth scale NaN", "Depth scale must be a finite number (it is nan)"),
-    ("depth scale infinite", "Depth scale must be a finite number"),
-    ("density of the image size", "leaves no face on the 96 x 96 working image of 'sphere.png': the largest usable "
-                                  "density is"),
-    ("density leaving no face", "the largest usable density is"),
-    ("max vertices leaving no face", "Vertex limit 100 gives density 2, which leaves no face on the 64 x 64 working "
-                                     "image of 'band': raise the Vertex limit, or set Density to 1 or less"),
-    ("file black", "Image 'black.png' is black"),
-    ("file transparent", "Image 'clear.png' is transparent everywhere"),
-    ("file 1 x 1", "Image 'dot.png' is 1 x 1 pixels: at least 2 x 2 are needed"),
-    ("file 200 x 1", "Image 'line.png' is 200 x 1 pixels: at least 2 x 2 are needed"),
-    ("file NaN", "Image 'nan.exr' has 1 NaN or infinite pixel"),
-    ("file directory", "folder.png': it is a directory, not an image file"),
-    ("file not an image", "notes.png': it is not an image file Blender can read"),
-    ("file missing", "missing.png': there is no such file"),
-    ("file of the user's, black", "Image 'black.png' is black"),
-])
-def test_errors_are_reports_and_leave_the_scene_alone(addon, sphere_png, tmp_path, case, message):
-    arguments = _error_setup(case, sphere_png, tmp_path)
-    before = scene_state()
-    # An ERROR report raises in background mode; CANCELLED is the operator's result behind it.
-    with pytest.raises(RuntimeError, match=re.escape(message)) as raised:
-        bpy.ops.shadecut.reconstruct(**arguments)
-    assert "Traceback" not in str(raised.value)
-    assert str(raised.value).count("Cannot read") <= 1  # said once, not repeated
-    assert scene_state() == before
-
-
-def test_errors_return_cancelled(addon, sphere_png, tmp_path):
-    """The operator's own result for a refused input, seen without bpy.ops (which raises)."""
-    settings = bpy.context.scene.shadecut
-    settings.light_source = "DIRECTION"
-    settings.density = 96
-
-    class Operator:
-        filepath, _interactive = str(sphere_png[1]), False
-
-        def report(self, kind, message):
-            self.last = (kind, message)
-
-    operator = Operator()
-    before = scene_state()
-    assert reconstruct_operator.SHADECUT_OT_reconstruct.execute(operator, bpy.context) == {"CANCELLED"}
-    assert operator.last[0] == {"ERROR"} and "largest usable density" in operator.last[1]
-    assert scene_state() == before
-
-
-def test_a_failed_job_removes_the_image_it_loaded(addon, sphere_png):
-    truth, path = sphere_png
-    bpy.context.scene.shadecut.light_source = "DIRECTION"
-    before = scene_state()
-    job = reconstruct_operator.prepare_job(bpy.context, str(path))
-    assert job.created_image and job.source_image.name in bpy.data.images
-    job.error = ValueError("refused by the core")
-
-    class Reports:
-        def report(self, kind, message):
-            self.last = (kind, message)
-
-    assert reconstruct_operator.finish_job(Reports(), bpy.context, job) == {"CANCELLED"}
-    assert scene_state() == before
-
-
-def test_a_mesh_without_faces_is_refused_before_anything_is_made(addon):
-    from shadecut.blender.mesh import MeshError, depth_mesh
-
-    before = scene_state()
-    mask = np.zeros((8, 8), bool)
-    mask[::2, ::2] = True  # no four masked neighbours anywhere
-    with pytest.raises(MeshError, match="no face"):
-        depth_mesh("holes", np.zeros((8, 8), np.float32), mask)
-    with pytest.raises(MeshError, match="not be finite"):
-        depth_mesh("huge", np.full((8, 8), 1e30, np.float32), np.ones((8, 8), bool), depth_scale=1e30)
-    assert scene_state() == before
-
-
-def test_cancelling_leaves_nothing_behind(addon, sphere_png):
-    truth, path = sphere_png
-    settings = bpy.context.scene.shadecut
-    settings.image = bpy.data.images.load(str(path))
-    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    job = reconstruct_operator.prepare_job(bpy.context)
-    job.cancel = True  # what Esc sets while the worker thread runs
-    job.run()
-    assert isinstance(job.error, shadecut.Cancelled)
-    before = scene_state()
-
-    class Reports:
-        def report(self, kind, message):
-            self.last = (kind, message)
-
-    reports = Reports()
-    assert reconstruct_operator.finish_job(reports, bpy.context, job) == {"CANCELLED"}
-    assert "cancelled" in reports.last[1]
-    assert scene_state() == before
-
-
-def test_the_worker_thread_gives_the_synchronous_result(addon, sphere_png):
-    import threading
-
-    truth, path = sphere_png
-    settings = bpy.context.scene.shadecut
-    settings.image = bpy.data.images.load(str(path))
-    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    threaded, direct = reconstruct_operator.prepare_job(bpy.context), reconstruct_operator.prepare_job(bpy.context)
-    worker = threading.Thread(target=threaded.run)
-    worker.start()
-    worker.join()
-    direct.run()
-    assert threaded.error is None and threaded.fraction == 1.0
-    np.testing.assert_array_equal(threaded.result.depth, direct.result.depth)
-
-
-def test_file_chosen_in_the_browser(addon, sphere_png):
-    truth, path = sphere_png
-    bpy.context.scene.shadecut.light_source = "DIRECTION"
-    assert bpy.ops.shadecut.reconstruct(filepath=str(path)) == {"FINISHED"}
-    assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(truth.mask)
+@pytest.mark.parametrize("aimed, scale", [((1, 0.5, 1), (-1, 1, 1)), ((1, 0.5, 1), (1, -2, 0.5)),
+                                          ((1, 0.5, -1), (1, 1, -1))])
+def test_a_mirrored_sun_gives_the_light_cycles_renders(addon, tmp_path, aimed, scale):
+    """A negative scale makes the sun's rotation a reflection, whose quaternion put the light up to 180
+    degrees off (for Reconstruct, the light preview and Render Lambertian alike). Blender lights along
+    the world matrix's Z axis: with Z mirrored, a sun aimed from below lights from above."""
+    sun = add_sun(aimed)
+    sun.scale = scale
+    bpy.context.view_layer.update()
+    light = np.array(frames.light_in_camera_frame(sun, None))
+    np.testing.assert_allclose(light, brightest_normal_in_cycles(tmp_path), atol=0.06)
 
 
 def test_estimated_light_reconstructs_the_sphere(addon, sphere_png):
@@ -493,7 +314,7 @@ def test_estimated_light_reconstructs_the_sphere(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source = "ESTIMATE"
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     assert job.light is None and job.albedo is None
     job.run()
     angle = math.degrees(math.acos(np.dot(job.result.light, np.array(LIGHT) / math.sqrt(2))))

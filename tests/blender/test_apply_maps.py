@@ -117,7 +117,7 @@ def test_an_unusable_target_is_an_error_that_changes_nothing(addon, sphere_png, 
     settings_for_target(image, normal_map=case != "no map ticked")
     before, tree_before = scene_state(), links_of(plane.active_material.node_tree)
     message = {"no UVs": "has no UV map", "no map ticked": "Tick Normal map", "no active object": "No active object",
-               "not a mesh": "not a mesh"}[case]
+               "not a mesh": "Active object 'Empty' is an empty, not a mesh"}[case]
     with pytest.raises(RuntimeError, match=message):  # an ERROR report raises in background mode
         bpy.ops.shadecut.reconstruct()
     assert scene_state() == before and links_of(plane.active_material.node_tree) == tree_before

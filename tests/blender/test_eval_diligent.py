@@ -85,6 +85,10 @@ def test_a_bad_diligent_folder_is_refused(repo, tmp_path):
     (tmp_path / "brokenPNG" / "Normal_gt.mat").unlink()
     assert_clean_failure(run_eval(repo, "--diligent", tmp_path, "--out", tmp_path / "out"), "lacks Normal_gt.mat")
     assert not (tmp_path / "out" / "results.json").exists()
+    (tmp_path / "brokenPNG" / "Normal_gt.mat").write_bytes(b"MATLAB 5.0 MAT-file, cut short")
+    assert_clean_failure(run_eval(repo, "--diligent", tmp_path / "brokenPNG", "--out", tmp_path / "out"),
+                         "Normal_gt.mat: it is not a readable MATLAB file")
+    assert not (tmp_path / "out").exists()  # refused after the output folder was made: it goes again
 
 
 def test_synthetic_options_need_a_dataset_beside_diligent(repo, photographs, tmp_path):

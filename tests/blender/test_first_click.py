@@ -13,7 +13,7 @@ from mathutils import Vector
 
 import shadecut
 from shadecut import synthetic
-from shadecut.blender import CLASSES, panels, reconstruct_operator
+from shadecut.blender import CLASSES, panels, reconstruct_job
 from shadecut.blender.properties import ShadeCutReconstructSettings
 from test_addon import add_sun, scene_state
 
@@ -135,11 +135,11 @@ def test_sun_without_a_pick_takes_the_scenes_only_sun(factory_scene, sphere_imag
     lamp.rotation_euler = Vector(LIGHT).to_track_quat("Z", "Y").to_euler()
     settings = factory_scene.shadecut
     settings.light_source = "OBJECT"
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     np.testing.assert_allclose(job.light, np.array(LIGHT) / np.sqrt(2), atol=1e-6)
     job.run()
     reports = Reports()
-    assert reconstruct_operator.finish_job(reports, bpy.context, job) == {"FINISHED"}
+    assert reconstruct_job.finish_job(reports, bpy.context, job) == {"FINISHED"}
     assert "light of the scene's only Sun 'Light'" in reports.last[1]
     assert settings.light_object is None  # used, not picked for the artist
 

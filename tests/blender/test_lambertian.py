@@ -3,6 +3,7 @@ ground truth, the scene left as it was, and the render operator."""
 
 import json
 import math
+import re
 
 import bpy
 import numpy as np
@@ -160,6 +161,9 @@ def test_user_scene_unchanged_after_renders_and_after_a_failure():
     with pytest.raises(lambertian.RenderError, match="horizon"):
         lambertian.render_lambertian([sphere], light=(0, 1, -0.2), resolution=(32, 32), albedo=None)
     assert scene_state() == before
+    # A huge component is shown in a few digits, not 39.
+    with pytest.raises(lambertian.RenderError, match=re.escape("the light (1e+38, 0, -1 in the camera frame)")):
+        lambertian.render_lambertian([sphere], light=(1e38, 0, -1), resolution=(32, 32))
 
 
 def test_own_colours_give_the_albedo_map():

@@ -1,11 +1,11 @@
-"""blender_scripts/make_dataset.py run in-process: folders, manifest, seeds, re-runs, shards, bad input."""
+"""blender_scripts/make_dataset.py's generator (dataset_generator.py) run in-process: folders, manifest,
+seeds, re-runs, shards, bad input."""
 
 import importlib.util
 import math
 import os
 import signal
 import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -15,20 +15,22 @@ from shadecut import dataset
 
 
 @pytest.fixture(scope="module")
-def make_dataset(repo):
-    spec = importlib.util.spec_from_file_location("make_dataset", repo / "blender_scripts" / "make_dataset.py")
+def generator(repo):
+    """dataset_generator.py, the module make_dataset.py runs."""
+    path = repo / "blender_scripts" / "dataset_generator.py"
+    spec = importlib.util.spec_from_file_location("dataset_generator", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
 
 
-def run(make_dataset, out, *extra):
-    return make_dataset.main(["--out", str(out), "--shapes", "sphere,suzanne", "--lights", "2", "--size", "64",
+def run(generator, out, *extra):
+    return generator.main(["--out", str(out), "--shapes", "sphere,suzanne", "--lights", "2", "--size", "64",
                               "--seed", "3", "--noise", "0.005", *extra])
 
 
-def test_two_shapes_two_lights(make_dataset, tmp_path, capsys):
-    assert run(make_dataset, tmp_path / "a") == 0
+def test_two_shapes_two_lights(generator, tmp_path, capsys):
+    assert run(generator, tmp_path / "a") == 0
     output = capsys.readouterr().out
     assert "[4/4] suzanne_001" in output and "to go" in output
     entries = dataset.load_manifest(tmp_path / "a")
@@ -46,7 +48,7 @@ def test_two_shapes_two_lights(make_dataset, tmp_path, capsys):
     assert dataset.load_dataset_info(tmp_path / "a")["seed"] == 3
 
     # The same seed gives the same dataset; another seed other lights.
-    assert run(make_dataset, tmp_path / "b") == 0
+    assert run(generator, tmp_path / "b") == 0
     assert dataset.load_manifest(tmp_path / "b") == entries
     for entry in entries:
         first = dataset.load_sample(tmp_path / "a" / entry["folder"])
@@ -56,40 +58,40 @@ def test_two_shapes_two_lights(make_dataset, tmp_path, capsys):
         np.testing.assert_allclose(first.image, second.image, rtol=0, atol=1e-5)
         np.testing.assert_allclose(first.normals, second.normals, atol=1e-6)
         np.testing.assert_array_equal(first.mask, second.mask)
-    assert run(make_dataset, tmp_path / "c", "--seed", "4") == 0
+    assert run(generator, tmp_path / "c", "--seed", "4") == 0
     assert [e["light"] for e in dataset.load_manifest(tmp_path / "c")] != [e["light"] for e in entries]
     # More lights extend the dataset: the first ones stay, so their samples are skipped.
     capsys.readouterr()
-    assert make_dataset.main(["--out", str(tmp_path / "b"), "--shapes", "sphere", "--lights", "3", "--size", "64",
+    assert generator.main(["--out", str(tmp_path / "b"), "--shapes", "sphere", "--lights", "3", "--size", "64",
                               "--seed", "3", "--noise", "0.005"]) == 0
     assert "2 already done, 1 to render" in capsys.readouterr().out
 
     # A re-run skips everything: no sample is written again.
     stamps = {p.name: p.stat().st_mtime_ns for p in (tmp_path / "a").glob("*/image.exr")}
     capsys.readouterr()
-    assert run(make_dataset, tmp_path / "a") == 0
+    assert run(generator, tmp_path / "a") == 0
     assert "4 already done, 0 to render" in capsys.readouterr().out
     assert {p.name: p.stat().st_mtime_ns for p in (tmp_path / "a").glob("*/image.exr")} == stamps
     # Other settings into the same folder are refused rather than mixed in.
-    assert run(make_dataset, tmp_path / "a", "--albedo", "0.5") == 2
+    assert run(generator, tmp_path / "a", "--albedo", "0.5") == 2
     assert "other settings" in capsys.readouterr().err
 
 
-def test_shards_split_the_samples_and_a_missing_sample_is_redone(make_dataset, tmp_path, capsys):
-    assert run(make_dataset, tmp_path, "--shard", "1/2") == 0
+def test_shards_split_the_samples_and_a_missing_sample_is_redone(generator, tmp_path, capsys):
+    assert run(generator, tmp_path, "--shard", "1/2") == 0
     assert sorted(e["id"] for e in dataset.load_manifest(tmp_path)) == ["sphere_001", "suzanne_001"]
-    assert run(make_dataset, tmp_path, "--shard", "0/2") == 0
+    assert run(generator, tmp_path, "--shard", "0/2") == 0
     assert len(dataset.load_manifest(tmp_path)) == 4
     # A sample folder without meta.json (never made by write_sample, e.g. copied half) is not done.
     (tmp_path / "sphere_000" / "meta.json").unlink()
     capsys.readouterr()
-    assert run(make_dataset, tmp_path) == 0
+    assert run(generator, tmp_path) == 0
     assert "3 already done, 1 to render" in capsys.readouterr().out
     assert dataset.is_sample(tmp_path / "sphere_000")
 
 
-def test_interrupted_run_keeps_finished_samples_and_resumes(make_dataset, tmp_path, monkeypatch, capsys):
-    render_sample = make_dataset.render_sample
+def test_interrupted_run_keeps_finished_samples_and_resumes(generator, tmp_path, monkeypatch, capsys):
+    render_sample = generator.render_sample
     calls = []
 
     def interrupted_on_the_third(*args):
@@ -98,22 +100,22 @@ def test_interrupted_run_keeps_finished_samples_and_resumes(make_dataset, tmp_pa
             raise KeyboardInterrupt
         render_sample(*args)
 
-    monkeypatch.setattr(make_dataset, "render_sample", interrupted_on_the_third)
-    assert run(make_dataset, tmp_path) == 130
+    monkeypatch.setattr(generator, "render_sample", interrupted_on_the_third)
+    assert run(generator, tmp_path) == 130
     assert [e["id"] for e in dataset.load_manifest(tmp_path)] == ["sphere_000", "sphere_001"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["manifest.csv", "manifest.json", "sphere_000", "sphere_001"]
-    monkeypatch.setattr(make_dataset, "render_sample", render_sample)
+    monkeypatch.setattr(generator, "render_sample", render_sample)
     capsys.readouterr()
-    assert run(make_dataset, tmp_path) == 0
+    assert run(generator, tmp_path) == 0
     assert "2 already done, 2 to render" in capsys.readouterr().out
 
 
-def test_every_catalogue_shape_and_fixed_lights(make_dataset, tmp_path):
-    assert make_dataset.main(["--out", str(tmp_path), "--size", "32", "--light", "1,0,1", "--light", "0,-1,2",
+def test_every_catalogue_shape_and_fixed_lights(generator, tmp_path):
+    assert generator.main(["--out", str(tmp_path), "--size", "32", "--light", "1,0,1", "--light", "0,-1,2",
                               "--shadows", "--bits", "8"]) == 0
     entries = dataset.load_manifest(tmp_path)
-    assert sorted({e["shape"] for e in entries}) == sorted(make_dataset.CATALOGUE)
-    assert len(entries) == 2 * len(make_dataset.CATALOGUE)
+    assert sorted({e["shape"] for e in entries}) == sorted(generator.CATALOGUE)
+    assert len(entries) == 2 * len(generator.CATALOGUE)
     assert entries[0]["light"] == pytest.approx([2**-0.5, 0, 2**-0.5])
     for entry in entries:
         sample = dataset.load_sample(tmp_path / entry["folder"])
@@ -123,12 +125,12 @@ def test_every_catalogue_shape_and_fixed_lights(make_dataset, tmp_path):
         assert np.mean(sample.normals[sample.mask][:, 2] > 0) > 0.95, entry["id"]
 
 
-def test_mesh_files(make_dataset, tmp_path):
+def test_mesh_files(generator, tmp_path):
     ply = tmp_path / "tetra.ply"
     ply.write_text("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
                    "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
                    "0 0 0\n1 0 0\n0 0 1\n0 -1 0\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n")
-    assert make_dataset.main(["--out", str(tmp_path / "out"), "--mesh", str(ply), "--lights", "1",
+    assert generator.main(["--out", str(tmp_path / "out"), "--mesh", str(ply), "--lights", "1",
                               "--size", "32"]) == 0
     (entry,) = dataset.load_manifest(tmp_path / "out")
     assert entry["shape"] == "tetra" and entry["mesh_file"] == str(ply)
@@ -163,28 +165,28 @@ def test_mesh_files(make_dataset, tmp_path):
     (["--light", "nan,0,1"], "NaN or infinite"),
     (["--shard=-1/2"], "--shard"),
 ])
-def test_bad_input_exits_with_a_message(make_dataset, tmp_path, capsys, arguments, message):
+def test_bad_input_exits_with_a_message(generator, tmp_path, capsys, arguments, message):
     (tmp_path / "garbage.ply").write_text("this is not a ply file\n")
     arguments = [a.format(tmp=tmp_path) for a in arguments]
-    assert make_dataset.main(["--out", str(tmp_path / "out"), "--size", "32", *arguments]) == 2
+    assert generator.main(["--out", str(tmp_path / "out"), "--size", "32", *arguments]) == 2
     error = capsys.readouterr().err
     assert message in error and "Traceback" not in error
     assert not dataset.is_sample(tmp_path / "out" / "sphere_000")
 
 
-def test_unwritable_output_folder(make_dataset, tmp_path, capsys):
+def test_unwritable_output_folder(generator, tmp_path, capsys):
     blocker = tmp_path / "file"
     blocker.write_text("")
-    assert make_dataset.main(["--out", str(blocker / "dataset"), "--shapes", "sphere", "--size", "32"]) == 2
+    assert generator.main(["--out", str(blocker / "dataset"), "--shapes", "sphere", "--size", "32"]) == 2
     assert "cannot write to the output folder" in capsys.readouterr().err
     if os.geteuid() != 0:  # root writes into read-only folders anyway
         readonly = tmp_path / "readonly"
         readonly.mkdir(mode=0o500)
-        assert make_dataset.main(["--out", str(readonly), "--shapes", "sphere", "--size", "32"]) == 2
+        assert generator.main(["--out", str(readonly), "--shapes", "sphere", "--size", "32"]) == 2
 
 
-def test_lights_are_uniform_over_the_slant_band(make_dataset):
-    lights = np.array(make_dataset.draw_lights(make_dataset.shape_rng(0, "x"), 4000, 10, 60))
+def test_lights_are_uniform_over_the_slant_band(generator):
+    lights = np.array(generator.draw_lights(generator.shape_rng(0, "x"), 4000, 10, 60))
     slants = np.degrees(np.arccos(lights[:, 2]))
     assert slants.min() >= 10 and slants.max() <= 60
     # Uniform over the solid angle: cos(slant) uniform between cos 60 and cos 10.
@@ -192,13 +194,13 @@ def test_lights_are_uniform_over_the_slant_band(make_dataset):
     np.testing.assert_allclose(np.linalg.norm(lights, axis=1), 1)
 
 
-def test_a_sample_damaged_after_it_was_written_is_rendered_again(make_dataset, tmp_path, capsys):
-    assert run(make_dataset, tmp_path) == 0
+def test_a_sample_damaged_after_it_was_written_is_rendered_again(generator, tmp_path, capsys):
+    assert run(generator, tmp_path) == 0
     image = tmp_path / "sphere_001" / "image.exr"
     image.write_bytes(image.read_bytes()[: image.stat().st_size // 2])  # e.g. a copy cut short, a full disk
     (tmp_path / "suzanne_000" / "meta.json").write_text('{"format": ')  # meta.json itself cut short
     capsys.readouterr()
-    assert run(make_dataset, tmp_path) == 0
+    assert run(generator, tmp_path) == 0
     captured = capsys.readouterr()
     assert "2 already done, 2 to render" in captured.out
     assert "sphere_001 is incomplete or damaged" in captured.err and "image.exr" in captured.err
@@ -209,7 +211,7 @@ def test_a_sample_damaged_after_it_was_written_is_rendered_again(make_dataset, t
         assert dataset.load_sample(tmp_path / entry["folder"]).image.shape == (64, 64)
     # A damaged sample of another shard is not listed in the manifest that shard writes.
     image.write_bytes(b"")
-    assert run(make_dataset, tmp_path, "--shard", "0/2") == 0
+    assert run(generator, tmp_path, "--shard", "0/2") == 0
     assert "sphere_001" not in [e["id"] for e in dataset.load_manifest(tmp_path)]
 
 
@@ -240,19 +242,19 @@ def test_ctrl_c_stops_the_whole_run(repo, tmp_path):
     assert all(dataset.check_sample(tmp_path / name) is None for name in on_disk)
 
 
-def test_stop_on_interrupt_turns_sigint_into_keyboard_interrupt_then_restores(make_dataset):
+def test_stop_on_interrupt_turns_sigint_into_keyboard_interrupt_then_restores(generator):
     before = signal.getsignal(signal.SIGINT)
     with pytest.raises(KeyboardInterrupt):
-        with make_dataset.stop_on_interrupt():
+        with generator.STOP.installed():
             os.kill(os.getpid(), signal.SIGINT)
             for _ in range(1000):  # the handler runs between bytecodes
                 sum(range(100))
     assert signal.getsignal(signal.SIGINT) == before
 
-    # Inside a sample (defer_interrupt) the sample is finished first, then the run stops.
+    # Inside a sample (STOP.deferring) the sample is finished first, then the run stops.
     finished = []
     with pytest.raises(KeyboardInterrupt):
-        with make_dataset.stop_on_interrupt(), make_dataset.defer_interrupt():
+        with generator.STOP.installed(), generator.STOP.deferring():
             os.kill(os.getpid(), signal.SIGINT)
             for _ in range(1000):
                 sum(range(100))

@@ -8,7 +8,7 @@ from mathutils import Euler, Matrix
 
 import shadecut
 from shadecut import imaging, synthetic
-from shadecut.blender import reconstruct_operator
+from shadecut.blender import image_input, reconstruct_job
 
 LIGHT = (1.0, 0.0, 1.0)
 
@@ -219,7 +219,7 @@ def test_the_selected_image_texture_node_is_the_input(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
     assert settings.image is None
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     assert job.source_image == image and "'Bark colour'" in job.image_origin and "'Bark'" in job.image_origin
 
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
@@ -241,10 +241,10 @@ def test_the_finish_report_names_the_node(addon, sphere_png):
     textured_plane(image)
     settings = bpy.context.scene.shadecut
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    job = reconstruct_operator.prepare_job(bpy.context)
+    job = reconstruct_job.prepare_job(bpy.context)
     job.run()
     operator = Operator()
-    assert reconstruct_operator.finish_job(operator, bpy.context, job) == {"FINISHED"}
+    assert reconstruct_job.finish_job(operator, bpy.context, job) == {"FINISHED"}
     (kind, text), = operator.reports
     assert kind == {"INFO"}
     assert "image 'sphere.png' from the Image Texture node 'Bark colour' of material 'Bark'" in text
@@ -270,8 +270,8 @@ def test_without_a_selected_image_texture_it_is_an_error_that_changes_nothing(ad
         material.node_tree.nodes.active = material.node_tree.nodes.new("ShaderNodeTexNoise")
     bpy.context.scene.shadecut.light_source = "DIRECTION"
     before = scene_state()
-    with pytest.raises(reconstruct_operator.InputError, match="No image"):
-        reconstruct_operator.prepare_job(bpy.context)
+    with pytest.raises(image_input.InputError, match="No image"):
+        reconstruct_job.prepare_job(bpy.context)
     with pytest.raises(RuntimeError, match="No image"):  # an ERROR report raises in background mode
         bpy.ops.shadecut.reconstruct()
     assert scene_state() == before and bpy.context.view_layer.objects.active == plane

@@ -20,7 +20,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # timers.py
 import shadecut  # noqa: E402
 from shadecut import synthetic  # noqa: E402
-from shadecut.blender import reconstruct_operator  # noqa: E402
+from shadecut.blender import reconstruct_job  # noqa: E402
 from timers import run_steps_then_exit  # noqa: E402
 
 LIGHT = (1.0, 0.0, 1.0)
@@ -39,7 +39,7 @@ def meshes():
 
 
 def record_progress():
-    original = reconstruct_operator.Job.progress
+    original = reconstruct_job.Job.progress
 
     def progress(job, fraction, stage):
         state["fractions"].append(fraction)
@@ -50,7 +50,7 @@ def record_progress():
             time.sleep(0.01)
         return original(job, fraction, stage)
 
-    reconstruct_operator.Job.progress = progress
+    reconstruct_job.Job.progress = progress
 
 
 def steps():

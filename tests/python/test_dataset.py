@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import shadecut
-from shadecut import dataset, synthetic
+from shadecut import dataset, dataset_files, synthetic
 
 PIXEL_SIZE = 0.01  # scene units per pixel
 
@@ -91,7 +91,7 @@ def test_interrupted_write_leaves_no_sample(tmp_path, monkeypatch):
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(dataset, "save_depth", interrupted)  # after image.exr/.png and normals.exr
+    monkeypatch.setattr(dataset_files, "save_depth", interrupted)  # after image.exr/.png and normals.exr
     with pytest.raises(KeyboardInterrupt):
         sphere_sample(tmp_path)
     assert not any(tmp_path.iterdir())

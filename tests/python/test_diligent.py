@@ -127,6 +127,62 @@ def test_malformed_layouts_are_refused(tiny, tmp_path):
         dataset.import_diligent(source, tmp_path / "out")
 
 
+def test_a_name_listed_twice_is_refused_before_anything_is_written(tiny, tmp_path):
+    """Two lines of filenames.txt for one image pair it with two lights: which one is meant is unknown,
+    and importing both wrote two manifest entries for one sample folder."""
+    source, _ = tiny
+    (source / "filenames.txt").write_text("\n".join([*NAMES, "002.png"]) + "\n")
+    np.savetxt(source / "light_directions.txt", np.vstack([LIGHTS, LIGHTS[:1]]))
+    np.savetxt(source / "light_intensities.txt", np.vstack([INTENSITIES, INTENSITIES[:1]]))
+    with pytest.raises(ValueError, match=r"filenames.txt lists 002.png twice \(lines 2 and 5\)"):
+        dataset.import_diligent(source, tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("kept_bytes", [10, 100, 300])
+def test_a_damaged_normal_gt_mat_is_a_message_naming_it(tiny, tmp_path, kept_bytes):
+    """A Normal_gt.mat cut short (a copy or download interrupted) made scipy raise IndexError, which
+    eval.py --diligent showed as a traceback with exit code 1 instead of its message and exit 2."""
+    source, _ = tiny
+    mat = source / "Normal_gt.mat"
+    mat.write_bytes(mat.read_bytes()[:kept_bytes])
+    with pytest.raises(ValueError, match=f"cannot read {mat}"):
+        dataset.import_diligent(source, tmp_path / "out")
+    with pytest.raises(evaluation.EvaluationError, match="Normal_gt.mat"):
+        evaluation.import_objects([source], tmp_path / "eval")
+
+
+def test_a_normal_gt_that_is_not_an_array_of_numbers_is_refused(tiny, tmp_path):
+    source, _ = tiny
+    scipy.io.savemat(source / "Normal_gt.mat", {"Normal_gt": "not normals"})
+    with pytest.raises(ValueError, match="Normal_gt.mat holds Normal_gt of shape"):
+        dataset.import_diligent(source, tmp_path / "out")
+
+
+def test_a_nan_in_a_light_file_is_named_as_such_not_as_a_shape(tiny, tmp_path):
+    source, _ = tiny
+    intensities = INTENSITIES.copy()
+    intensities[2, 1] = np.nan
+    np.savetxt(source / "light_intensities.txt", intensities)
+    with pytest.raises(ValueError, match=r"light_intensities.txt line 3 holds a value that is not a finite number"):
+        dataset.import_diligent(source, tmp_path / "out")
+
+
+def test_a_failed_import_leaves_no_sample_that_no_manifest_lists(tiny, tmp_path):
+    """The last photograph is the wrong size: the first two samples were kept without a manifest."""
+    source, _ = tiny
+    _write_png(source / "004.png", np.zeros((2, 2, 3), np.uint16), oiio.UINT16)
+    with pytest.raises(ValueError, match="004.png is 2 x 2 pixels"):
+        dataset.import_diligent(source, tmp_path / "new")
+    assert not (tmp_path / "new").exists()
+    # Into a dataset imported before: the samples it had stay, listed by its manifest.
+    dataset.import_diligent(source, tmp_path / "earlier", images=[1])
+    with pytest.raises(ValueError, match="004.png is 2 x 2 pixels"):
+        dataset.import_diligent(source, tmp_path / "earlier")
+    assert sorted(p.name for p in (tmp_path / "earlier").iterdir()) == ["manifest.csv", "manifest.json", "tiny_001"]
+    assert dataset.check_sample(tmp_path / "earlier" / "tiny_001") is None
+
+
 def test_find_objects_accepts_an_object_or_a_folder_of_them(tiny, tmp_path):
     source, _ = tiny
     assert evaluation.find_objects(source) == [source]
@@ -191,3 +247,16 @@ def test_the_ball_of_the_benchmark(tmp_path):
         lit = sample.mask & (sample.image < 0.9 * sample.image[sample.mask].max())
         shading = np.clip(sample.normals[lit] @ sample.light, 0, None)
         assert np.corrcoef(shading, sample.image[lit])[0, 1] > 0.8, entry["id"]
+
+
+@pytest.mark.parametrize("module", ["shadecut.diligent", "shadecut.dataset_files", "shadecut.dataset"])
+def test_each_module_imports_first(module):
+    """No import cycle: a fresh interpreter can start from any of the modules that write samples."""
+    import subprocess
+    import sys
+
+    addon = Path(shadecut.__file__).resolve().parents[1]
+    completed = subprocess.run([sys.executable, "-c", f"import {module}; import shadecut.dataset as d; "
+                                "assert d.import_diligent.__module__ == 'shadecut.diligent'"],
+                               capture_output=True, text=True, env={"PYTHONPATH": str(addon)}, timeout=60)
+    assert completed.returncode == 0, completed.stderr

@@ -1,7 +1,9 @@
 """Bad input raises a clear Python exception, never a crash."""
 
+import os
 import struct
 import subprocess
+import sys
 import zlib
 from pathlib import Path
 
@@ -21,8 +23,11 @@ LIGHT = (1.0, 0.0, 1.0)
         (np.zeros((0, 0), np.float32), LIGHT, {}, "at least 2 x 2"),
         (np.ones((1, 1), np.float32), LIGHT, {}, "at least 2 x 2"),
         (np.ones((1, 16), np.float32), LIGHT, {}, "at least 2 x 2"),
-        (np.ones((4, 4, 3), np.float32), LIGHT, {}, "2-D array"),
-        (np.ones(16, np.float32), LIGHT, {}, "2-D array"),
+        (np.ones((4, 4, 4), np.float32), LIGHT, {}, r"\(H, W\) or \(H, W, 3\)"),
+        (np.ones(16, np.float32), LIGHT, {}, r"\(H, W, 3\) RGB"),
+        (np.dstack([GOOD, GOOD, -GOOD]), LIGHT, {}, "negative"),
+        (GOOD, LIGHT, {"albedo_method": "retinex", "retinex_rim": -1}, "retinex_rim"),
+        (GOOD, LIGHT, {"albedo_method": "retinex", "retinex_chroma_edge": float("nan")}, "retinex_chroma_edge"),
         (np.where(GOOD > 0.6, np.nan, GOOD), LIGHT, {}, "NaN or infinite"),
         (np.where(GOOD > 0.6, np.inf, GOOD), LIGHT, {}, "NaN or infinite"),
         (GOOD, LIGHT, {"mask": np.ones((15, 16), bool)}, "mask is 15 x 16"),
@@ -95,6 +100,27 @@ def test_an_option_of_the_wrong_type_names_the_option_and_the_value():
         with pytest.raises(TypeError, match=f"option '{name}' cannot be {shown}"):
             setattr(options, name, value)
     options.tolerance = None  # an option that may be unset takes None
+
+
+def test_options_given_as_a_dict_say_how_to_give_them():
+    with pytest.raises(TypeError, match=r"options must be a ReconstructOptions, not a dict: "
+                                        r"options=ReconstructOptions\(labels=24\), or the fields as keywords"):
+        shadecut.reconstruct(GOOD, LIGHT, options={"labels": 24})
+
+
+def test_a_max_pixels_beyond_any_image_is_no_limit(tmp_path):
+    """2**70 gave pybind11's "incompatible function arguments": no header can declare that many pixels."""
+    png_declaring(tmp_path / "normal.png", 4, 4)
+    assert shadecut.load_image(tmp_path / "normal.png", max_pixels=2**70).image.shape == (4, 4)
+
+
+def test_a_depth_file_that_is_not_text_is_named():
+    """synthetic.mozart on a PNG raised UnicodeDecodeError from numpy's text reader."""
+    from shadecut import synthetic
+
+    picture = Path(__file__).resolve().parents[2] / "docs" / "addon_screenshot.png"
+    with pytest.raises(ValueError, match=f"{picture} is not a text file of numbers"):
+        synthetic.mozart(picture)
 
 
 def test_a_falsy_progress_answer_cancels_and_none_goes_on():
@@ -192,3 +218,16 @@ def test_a_folder_or_a_missing_file_is_named_as_such(tmp_path):
         shadecut.load_image(tmp_path)
     with pytest.raises(OSError, match="no such file"):
         shadecut.load_image(tmp_path / "missing.png")
+
+
+def test_a_named_pipe_or_a_device_is_refused_without_reading_it(tmp_path):
+    """A FIFO blocked load_image forever and /dev/zero made it spin: neither is a regular file. Run in
+    a child process, so that a regression fails on its time limit instead of hanging the suite."""
+    fifo = tmp_path / "pipe.png"
+    os.mkfifo(fifo)
+    for path, kind in ((fifo, "a named pipe (FIFO)"), ("/dev/zero", "a character device")):
+        code = f"import shadecut\ntry:\n    shadecut.load_image({str(path)!r})\nexcept OSError as e:\n    print(e)"
+        completed = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=30,
+                                   env={**os.environ, "PYTHONPATH": str(Path(shadecut.__file__).parents[1])})
+        assert completed.stdout.strip() == f'cannot read image "{path}": it is {kind}, not a regular file', \
+            completed.stdout + completed.stderr

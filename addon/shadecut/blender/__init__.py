@@ -1,7 +1,8 @@
 """The Blender side of ShadeCut: operators, panels and helpers that need ``bpy``.
 
 Nothing outside this subpackage imports it, so ``import shadecut`` keeps working without Blender.
-The modules: one per operator (``reconstruct_operator``, ``render_operator``, ``flip_operator``), their settings on
+The modules: one per operator (``reconstruct_operator``, ``render_operator``, ``flip_operator``), the reconstruction's job
+(``reconstruct_job``: checks, worker, result) and its input (``image_input``), their settings on
 the scene (``properties``), the sidebar (``panels``, with its ``light_preview``), the add-on's
 ``preferences``, and the helpers the operators use (``frames``, ``lambertian``, ``mesh``,
 ``result``). Every class is registered from :data:`CLASSES` below.

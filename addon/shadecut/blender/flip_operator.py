@@ -1,8 +1,8 @@
 """Flip: a ShadeCut result turned inside out (a dome into its hollow), in one undo step.
 
 Under a light near the viewer the image cannot tell a surface from its inversion, and the
-Reconstruct operator says so (a warning, from ``stats.orientation_ambiguous``); this operator gives
-the other answer. It inverts what the result object shows, the way :func:`shadecut.flip` inverts a
+Reconstruct operator says so (:func:`report_orientation`'s warning, from
+``stats.orientation_ambiguous``); this operator gives the other answer. It inverts what the result object shows, the way :func:`shadecut.flip` inverts a
 depth map and its normals (depth z -> -z, lowest point at 0 again; normals (nx, ny, nz) ->
 (-nx, -ny, nz)):
 
@@ -26,6 +26,18 @@ from .result import HEIGHT_NODE, HEIGHT_TEXTURE, NORMAL_TEXTURE
 
 RESULT_PROPERTY = "shadecut_result"  # set on the objects the Reconstruct operator builds
 DISPLACE_MODIFIER = "ShadeCut height"  # result._displace's modifier
+
+
+AMBIGUOUS_WARNING = ("The image cannot tell this shape from its inversion (a dome from a hollow: the light is "
+                     "near the viewer); the outline, or for a relief the light from above, chose. If it came out "
+                     "the wrong way, click Flip")
+
+
+def report_orientation(operator, result) -> None:
+    """After a reconstruction: warns when the image could not choose the result's orientation
+    (``stats.orientation_ambiguous``), pointing to Flip."""
+    if result.stats.orientation_ambiguous:
+        operator.report({"WARNING"}, AMBIGUOUS_WARNING)
 
 
 def _inverted_image(image: bpy.types.Image, channels: tuple[int, ...]) -> bpy.types.Image:

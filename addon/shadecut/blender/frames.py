@@ -10,7 +10,9 @@ from __future__ import annotations
 import math
 
 import bpy
-from mathutils import Quaternion, Vector
+from mathutils import Matrix, Quaternion, Vector
+
+from .wording import with_article
 
 # An axis of an object's world matrix shorter than this is scaled to zero: it has no orientation.
 MIN_AXIS = 1e-9
@@ -20,11 +22,9 @@ class FrameError(ValueError):
     """A light or camera that cannot give a direction; the message says what to do."""
 
 
-def world_rotation(obj: bpy.types.Object, role: str) -> Quaternion:
-    """The rotation of ``obj``'s world matrix; FrameError when scale zero (or NaN) leaves it undefined.
-
-    ``role`` names the object in the message ("Sun", "Camera").
-    """
+def _checked_axes(obj: bpy.types.Object, role: str) -> Matrix:
+    """The 3 x 3 part of ``obj``'s world matrix; FrameError when scale zero (or NaN) leaves it without
+    a direction. ``role`` names the object in the message ("Sun", "Camera")."""
     matrix = obj.matrix_world.to_3x3()
     lengths = [column.length for column in matrix.col]
     if not all(math.isfinite(value) for row in matrix for value in row):
@@ -33,13 +33,20 @@ def world_rotation(obj: bpy.types.Object, role: str) -> Quaternion:
     if min(lengths) < MIN_AXIS or abs(matrix.determinant()) < MIN_AXIS ** 3:
         raise FrameError(f"{role} '{obj.name}' (or a parent) is scaled to zero, so it has no direction: "
                          "give it a non-zero scale")
-    return matrix.to_quaternion()
+    return matrix
+
+
+def world_rotation(obj: bpy.types.Object, role: str) -> Quaternion:
+    """The rotation of ``obj``'s world matrix; FrameError when it has none (see :func:`_checked_axes`)."""
+    return _checked_axes(obj, role).to_quaternion()
 
 
 def sun_direction_world(light_object: bpy.types.Object) -> Vector:
-    """Unit vector toward a Sun light, in world coordinates.
+    """Unit vector toward a Sun light, in world coordinates, as Blender lights the scene with it.
 
-    A sun shines along its local -Z, so the light lies along +Z; scale and shear are ignored.
+    A sun shines along the -Z axis of its world matrix, so the light lies along that matrix's Z
+    column. Not its rotation: a mirrored sun (a negative scale) has a reflection there, whose
+    quaternion points up to 180 degrees away from where Cycles and EEVEE take the light from.
     """
     if light_object is None:
         raise FrameError("No light chosen: pick a Sun in the ShadeCut panel, or type a direction")
@@ -47,10 +54,10 @@ def sun_direction_world(light_object: bpy.types.Object) -> Vector:
         raise FrameError(f"'{light_object.name}' is not a light: pick a Sun light object")
     if light_object.data.type != "SUN":
         raise FrameError(
-            f"Light '{light_object.name}' is a {light_object.data.type.lower()} light: the method assumes a "
+            f"Light '{light_object.name}' is {with_article(light_object.data.type)} light: the method assumes a "
             "distant light, so use a Sun (or type the direction)"
         )
-    return (world_rotation(light_object, "Sun") @ Vector((0.0, 0.0, 1.0))).normalized()
+    return _checked_axes(light_object, "Sun").col[2].normalized()
 
 
 def world_to_camera_frame(direction: Vector, camera: bpy.types.Object | None) -> Vector:

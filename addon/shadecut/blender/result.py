@@ -10,6 +10,7 @@ import numpy as np
 
 from ..imaging import normal_colors, unit_height
 from .mesh import MeshError, depth_mesh
+from .wording import with_article
 
 
 UV_MAP = "UVMap"  # the result mesh's UV map (mesh.depth_mesh)
@@ -221,7 +222,7 @@ def check_target(obj: bpy.types.Object | None, *, normal_map: bool, height_map: 
         raise TargetError("No active object: select the object (a plane with the image as texture) that gets "
                           "the maps, or set Apply to to New object")
     if obj.type != "MESH":
-        raise TargetError(f"Active object '{obj.name}' is a {obj.type.lower()}, not a mesh: select a mesh with "
+        raise TargetError(f"Active object '{obj.name}' is {with_article(obj.type)}, not a mesh: select a mesh with "
                           "UVs, or set Apply to to New object")
     if not obj.data.uv_layers:
         raise TargetError(f"Active object '{obj.name}' has no UV map, which the maps follow: unwrap it "

@@ -86,7 +86,7 @@ double top_fit(const ImageF& image, const Mask& mask, const TopFitWindow& window
 }  // namespace
 
 const std::vector<std::string>& albedo_method_names() {
-  static const std::vector<std::string> names{"brightest", "top_fit"};
+  static const std::vector<std::string> names{"brightest", "top_fit", "retinex"};
   return names;
 }
 
@@ -101,6 +101,9 @@ double estimate_albedo(const ImageF& image, const Mask& mask, AlbedoMethod metho
   check_mask(mask, image);
   if (!(window.from >= 0.0 && window.from < window.to && window.to <= 1.0 && window.agreement >= 0.0))
     throw InvalidArgument("shadecut: the top_fit window must satisfy 0 <= from < to <= 1 and agreement >= 0");
+  if (method == AlbedoMethod::Retinex)
+    throw InvalidArgument("shadecut: the albedo method retinex gives one albedo per pixel; reconstruct() reads it "
+                          "(estimate_reflectance), estimate_albedo only top_fit or brightest");
   const double largest = brightest(image, mask);
   double albedo = method == AlbedoMethod::TopFit ? top_fit(image, mask, window) : std::nan("");
   if (!std::isfinite(albedo) || largest <= albedo * (1.0 + window.agreement)) albedo = largest;

@@ -170,42 +170,63 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
 
   LoadedImage loaded;
   loaded.intensity = std::move(decoded.intensity);
+  loaded.colour = std::move(decoded.colour);
   loaded.mask = std::move(decoded.mask);
   loaded.has_alpha = alpha >= 0;
   loaded.color_space = srgb ? "srgb" : "linear";
   return loaded;
 }
 
-void save_image(const std::string& path, const ImageF& image, const Mask* alpha) {
+namespace {
+
+// Linear planes of one shape (Y, or R G B) and an optional alpha: floats tagged linear for
+// .exr/.tif, else 16-bit sRGB-encoded integers, clamped to [0, 1].
+void save_planes(const std::string& path, const std::vector<const ImageF*>& planes, std::vector<std::string> names,
+                 const Mask* alpha) {
+  const ImageF& first = *planes.front();
   require_path("save_image", path);
-  require_image("save_image", image.rows(), image.cols());
-  if (alpha != nullptr) require_mask_shape("save_image", *alpha, image.rows(), image.cols());
-  const std::size_t pixel_count = std::size_t(image.size());
-  const int channels = alpha != nullptr ? 2 : 1;
-  std::vector<std::string> names{"Y"};
+  require_image("save_image", first.rows(), first.cols());
+  if (alpha != nullptr) require_mask_shape("save_image", *alpha, first.rows(), first.cols());
+  const std::size_t pixel_count = std::size_t(first.size());
+  const std::size_t planes_count = planes.size();
+  const int channels = int(planes_count) + (alpha != nullptr ? 1 : 0);
   if (alpha != nullptr) names.emplace_back("A");
 
   if (stores_floats(path)) {
-    OIIO::ImageSpec spec = make_spec(image.rows(), image.cols(), OIIO::TypeDesc::FLOAT, names, alpha != nullptr);
+    OIIO::ImageSpec spec = make_spec(first.rows(), first.cols(), OIIO::TypeDesc::FLOAT, names, alpha != nullptr);
     spec.attribute("oiio:ColorSpace", "Linear");
     std::vector<float> pixels(pixel_count * channels);
     for (std::size_t i = 0; i < pixel_count; ++i) {
-      pixels[i * channels] = image.data()[i];
-      if (alpha != nullptr) pixels[i * channels + 1] = alpha->data()[i] ? 1.0f : 0.0f;
+      for (std::size_t k = 0; k < planes_count; ++k) pixels[i * channels + k] = planes[k]->data()[i];
+      if (alpha != nullptr) pixels[i * channels + planes_count] = alpha->data()[i] ? 1.0f : 0.0f;
     }
     write_pixels(path, spec, OIIO::TypeDesc::FLOAT, pixels.data());
     return;
   }
 
-  OIIO::ImageSpec spec = make_spec(image.rows(), image.cols(), OIIO::TypeDesc::UINT16, names, alpha != nullptr);
+  OIIO::ImageSpec spec = make_spec(first.rows(), first.cols(), OIIO::TypeDesc::UINT16, names, alpha != nullptr);
   spec.attribute("oiio:ColorSpace", "sRGB");
   std::vector<std::uint16_t> pixels(pixel_count * channels);
   for (std::size_t i = 0; i < pixel_count; ++i) {
     // Encoding maps [0, 1] onto itself and is monotonic, so clamping after it clamps the linear value.
-    pixels[i * channels] = to_unsigned_normalized<std::uint16_t>(linear_to_srgb(image.data()[i]));
-    if (alpha != nullptr) pixels[i * channels + 1] = alpha->data()[i] ? 0xffff : 0;
+    for (std::size_t k = 0; k < planes_count; ++k)
+      pixels[i * channels + k] = to_unsigned_normalized<std::uint16_t>(linear_to_srgb(planes[k]->data()[i]));
+    if (alpha != nullptr) pixels[i * channels + planes_count] = alpha->data()[i] ? 0xffff : 0;
   }
   write_pixels(path, spec, OIIO::TypeDesc::UINT16, pixels.data());
+}
+
+}  // namespace
+
+void save_image(const std::string& path, const ImageF& image, const Mask* alpha) {
+  save_planes(path, {&image}, {"Y"}, alpha);
+}
+
+void save_image(const std::string& path, const ColourImage& image, const Mask* alpha) {
+  for (const ImageF& channel : image.channel)
+    if (channel.rows() != image.rows() || channel.cols() != image.cols())
+      throw InvalidArgument("save_image: the colour image's channels differ in shape");
+  save_planes(path, {&image.channel[0], &image.channel[1], &image.channel[2]}, {"R", "G", "B"}, alpha);
 }
 
 void save_depth(const std::string& path, const ImageF& depth, const Mask& mask) {

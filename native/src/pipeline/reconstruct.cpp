@@ -14,6 +14,7 @@
 #include <shadecut/baselines/upwind.hpp>
 #include <shadecut/support/validate.hpp>
 
+#include "pipeline/reconstruct_shading.hpp"
 #include "support/enum_names.hpp"
 #include "support/parallel.hpp"
 #include "support/stopwatch.hpp"
@@ -344,8 +345,9 @@ MethodDefaults method_defaults(Method method) {
   throw InvalidArgument("shadecut: unknown method");
 }
 
-Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask_in,
-                           std::optional<double> albedo, const ReconstructOptions& options) {
+Reconstruction detail::reconstruct_shading(const ImageF& image, const std::optional<Eigen::Vector3d>& light,
+                                           const Mask* mask_in, std::optional<double> albedo,
+                                           const ReconstructOptions& options) {
   const Stopwatch total;
   check_image(image);
   const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);

@@ -29,15 +29,18 @@ Intensity intensity_from_pixels(const float* pixels, int rows, int cols, int cha
     if (channel != alpha) colour.push_back(channel);
   auto linear = [srgb](float stored) { return srgb ? srgb_to_linear(stored) : double(stored); };
 
-  Intensity result{ImageF(rows, cols), Mask::Constant(rows, cols, true)};
+  Intensity result{ImageF(rows, cols), {}, Mask::Constant(rows, cols, true)};
+  if (colour.size() == 3)
+    for (ImageF& channel : result.colour.channel) channel.resize(rows, cols);
   float* intensity = result.intensity.data();
   bool* inside = result.mask.data();
   const std::size_t pixel_count = std::size_t(rows) * std::size_t(cols);
   for (std::size_t i = 0; i < pixel_count; ++i) {
     const float* pixel = &pixels[i * std::size_t(channels)];
     if (colour.size() == 3) {
-      intensity[i] = float(0.2126 * linear(pixel[colour[0]]) + 0.7152 * linear(pixel[colour[1]]) +
-                           0.0722 * linear(pixel[colour[2]]));
+      for (int k = 0; k < 3; ++k) result.colour.channel[std::size_t(k)].data()[i] = float(linear(pixel[colour[std::size_t(k)]]));
+      intensity[i] = float(kLuminanceWeights[0] * linear(pixel[colour[0]]) + kLuminanceWeights[1] * linear(pixel[colour[1]]) +
+                           kLuminanceWeights[2] * linear(pixel[colour[2]]));
     } else {
       intensity[i] = float(linear(pixel[colour[0]]));
     }

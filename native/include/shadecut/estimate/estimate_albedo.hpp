@@ -24,6 +24,10 @@ enum class AlbedoMethod {
   /// exceeds the fit by no more than TopFitWindow::agreement (the image shows no highlight), the
   /// brightest value is taken: exact on a clean image.
   TopFit,
+  /// "retinex": paint separated from shading, a reflectance per pixel (estimate_reflectance.hpp);
+  /// reconstruct() reads the albedo of the shading image that leaves by top_fit. Not a single value:
+  /// estimate_albedo() refuses it.
+  Retinex,
 };
 
 /// The window of top_fit, as shares of the mask's area (brightest first). The defaults were chosen

@@ -27,12 +27,14 @@ constexpr int kMaxChannels = 64;
 /// An image file read as linear intensity.
 struct LoadedImage {
   ImageF intensity;      ///< H x W linear intensity; integer formats scaled to [0, 1].
+  ColourImage colour;    ///< H x W x 3 linear RGB of a colour file; empty (0 x 0 channels) for grey.
   Mask mask;             ///< H x W: alpha > 0.5 when the file has alpha, else all true.
   bool has_alpha = false;
   std::string color_space;  ///< what was assumed for the stored values: "linear" or "srgb".
 };
 
-/// Reads PNG (8/16-bit), TIFF, JPEG, EXR, ... Colour becomes Rec. 709 luminance of the linear channels.
+/// Reads PNG (8/16-bit), TIFF, JPEG, EXR, ... Colour becomes Rec. 709 luminance of the linear channels,
+/// and is kept as linear RGB beside it.
 /// Channels: 1 = grey, 2 = grey + alpha, 3 = RGB, 4 = RGBA, unless the file names its alpha channel.
 /// Alpha is read as stored (never premultiplied into the colour, never linearised). sRGB decoding uses
 /// the exact piecewise curve. Auto treats an integer file as linear when its oiio:ColorSpace says
@@ -50,6 +52,9 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space = ColorSp
 /// linear values (to 16-bit precision). Throws InvalidArgument for an empty image or an alpha of
 /// another shape, IoError when the file cannot be written.
 void save_image(const std::string& path, const ImageF& image, const Mask* alpha = nullptr);
+
+/// The same for linear RGB (channels R, G, B): an albedo's colour, for example.
+void save_image(const std::string& path, const ColourImage& image, const Mask* alpha = nullptr);
 
 /// Writes depth: .exr/.tif/.tiff as float values (channel Z in pixel units, 0 outside the mask, mask
 /// in alpha A); other formats (PNG) as 16-bit grey scaled from the masked min..max to 0..65535 (a

@@ -3,6 +3,7 @@
 
 #include <shadecut/estimate/estimate_albedo.hpp>
 #include <shadecut/estimate/estimate_light.hpp>
+#include <shadecut/estimate/estimate_reflectance.hpp>
 #include <shadecut/graphcut/global_step.hpp>
 #include <shadecut/integrate/integrate.hpp>
 #include <shadecut/refine/fit_shading.hpp>
@@ -90,7 +91,15 @@ struct ReconstructOptions {
   std::optional<double> smoothness;
   /// the estimator used when no light is given; unset = by scene (light_method_used)
   std::optional<LightMethod> light_method;
-  AlbedoMethod albedo_method = AlbedoMethod::TopFit;       ///< the estimator used when no albedo is given with a light
+  /// How the albedo is read when none is given: one value (top_fit, brightest) with a light given, or
+  /// per pixel (retinex: the paint separated from the shading first, estimate_reflectance.hpp).
+  AlbedoMethod albedo_method = AlbedoMethod::TopFit;
+  /// retinex: ReflectanceParams' chroma_edge, intensity_edge (<= 0 off), rim (objects) and highlight
+  /// (<= 0 none), tuned (docs/parameters.md).
+  double retinex_chroma_edge = 0.02;
+  double retinex_intensity_edge = 0.1;
+  int retinex_rim = 4;
+  double retinex_highlight = 1.0;
   /// Pixels brighter than this times the albedo, which no Lambertian surface of that albedo shows
   /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never
   /// (the default, tuned: docs/parameters.md).
@@ -179,7 +188,11 @@ struct Reconstruction {
   NormalMap normals;       ///< H x W camera-frame unit normals, 0 outside the mask
   ImageF depth;            ///< H x W, pixel units, larger = closer; each mask component's minimum is 0
   Mask mask;               ///< H x W, the pixels reconstructed
-  double albedo = 0.0;     ///< the albedo used (given or estimated)
+  double albedo = 0.0;     ///< the albedo used (given or estimated): of the brightest paint with retinex
+  ImageF albedo_map;       ///< H x W albedo per pixel (albedo everywhere unless retinex), 0 outside the mask
+  /// H x W x 3 for a colour image: the de-lit colour, albedo_map times the image's chromaticity; empty
+  /// (0 x 0 channels) for a grey image.
+  ColourImage albedo_colour;
   Eigen::Vector3d light;   ///< unit light direction used, camera frame
   ReconstructStats stats;
 };
@@ -204,6 +217,13 @@ GlobalStepParams global_step_params(const ReconstructOptions& options);
 /// What reconstruct() hands fit_shading when options.fit_shading is on: options.fit_smoothness.
 FitShadingParams fit_shading_params(const ReconstructOptions& options);
 
+/// What reconstruct() hands estimate_reflectance with albedo_method retinex: the options' retinex_*
+/// values (the rim for objects only).
+ReflectanceParams reflectance_params(const ReconstructOptions& options);
+
+/// Rec. 709 luminance of a colour image (kLuminanceWeights): the intensity the shape is read from.
+ImageF luminance(const ColourImage& colour);
+
 /// Reconstructs normals and depth from one Lambertian image.
 ///
 /// @param[in] image   H x W linear intensity (>= 2 x 2, finite).
@@ -215,6 +235,11 @@ FitShadingParams fit_shading_params(const ReconstructOptions& options);
 /// @param[in] options method and parameters.
 /// Throws InvalidArgument for bad input and Cancelled when options.progress returns false.
 Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,
+                           std::optional<double> albedo, const ReconstructOptions& options);
+
+/// The same for a colour image (H x W x 3 linear RGB under one white light): the shape from its
+/// luminance; with retinex the chromaticity tells paint from shading, and albedo_colour is filled.
+Reconstruction reconstruct(const ColourImage& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,
                            std::optional<double> albedo, const ReconstructOptions& options);
 
 }  // namespace shadecut

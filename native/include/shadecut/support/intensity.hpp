@@ -16,6 +16,9 @@ int default_alpha_channel(int channels);
 
 struct Intensity {
   ImageF intensity;  ///< H x W linear intensity
+  /// H x W x 3 linear RGB of a colour image (the three channels the luminance is read from); empty
+  /// (0 x 0 channels) for a grey one.
+  ColourImage colour;
   Mask mask;         ///< H x W: alpha > 0.5, or every pixel when there is no alpha channel
 };
 

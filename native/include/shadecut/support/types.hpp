@@ -7,6 +7,8 @@
 #pragma once
 
 #include <Eigen/Core>
+
+#include <array>
 #include <cstdint>
 
 namespace shadecut {
@@ -30,5 +32,16 @@ struct NormalMap {
   NormalMap(int rows_, int cols_) : rows(rows_), cols(cols_), xyz(Vectors3::Zero(Eigen::Index(rows_) * cols_, 3)) {}
   Eigen::Index size() const { return Eigen::Index(rows) * cols; }
 };
+
+/// H x W x 3 linear RGB, one H x W plane per channel (red, green, blue).
+struct ColourImage {
+  std::array<ImageF, 3> channel;
+
+  Eigen::Index rows() const { return channel[0].rows(); }
+  Eigen::Index cols() const { return channel[0].cols(); }
+};
+
+/// Rec. 709 luminance, the intensity of a colour pixel (support/intensity.hpp's rule).
+constexpr std::array<double, 3> kLuminanceWeights = {0.2126, 0.7152, 0.0722};
 
 }  // namespace shadecut

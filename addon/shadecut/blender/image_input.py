@@ -1,0 +1,201 @@
+"""The image to reconstruct, and its pixels as the core's linear input.
+
+Which image: the file the operator was given, else the panel's, the Image Editor's, the active
+Image Texture node's, or any open Image Editor's. Its pixels: Blender's buffer decoded by the
+image's colour space, row 0 at the top.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from typing import Optional
+
+import bpy
+import numpy as np
+
+from .. import imaging
+from ..file_kinds import special_file_kind
+from ..image_header import declared_size
+from .wording import short_bytes
+
+# Colour spaces whose stored 8-bit values are linear already.
+LINEAR_SPACES = {"Linear", "Linear ACES", "Linear ACEScg", "Non-Color", "Raw", "XYZ"}
+
+# Bytes per pixel while an image file is read: Blender's own buffer (float RGBA for 16-bit and float
+# files, which the header check does not tell apart from 8-bit ones) and the float RGBA copy that
+# bpy hands to Python (it offers no smaller one). Measured: 660 MB above the start for a 16-bit
+# 4096 x 4096 PNG with Max size 2048, the bands' temporaries included (930 MB when whole-image copies
+# were made).
+READ_BYTES_PER_PIXEL = 16 + 16
+# Pixels converted at a time: bounds the temporary copies of a band.
+BAND_PIXELS = 1 << 22
+# Image sources that are not one still picture, as the messages name them.
+MOVING_SOURCES = {"SEQUENCE": "an image sequence", "MOVIE": "a movie"}
+
+
+class InputError(ValueError):
+    """Bad input the user can fix; the message says how."""
+
+
+def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray, np.ndarray, int]:
+    """Linear intensity (h, w) and mask (h, w) of a Blender image, row 0 at the top, shrunk by the
+    whole factor that Max size ``max_size`` asks for (imaging.shrink_factor; 0 = full size), and that
+    factor.
+
+    Float buffers hold scene-linear values; byte buffers hold the file's encoded values, decoded
+    here according to the image's colour space. A file Blender has not decoded yet is first checked
+    by its header (:func:`check_declared_size`). The pixels are converted and shrunk in bands of
+    whole blocks, so that the float copy bpy hands over is the only full-size array.
+    """
+    if image.source in MOVING_SOURCES:  # their pixels are a frame's, or none: not "a missing file"
+        raise InputError(f"Image '{image.name}' is {MOVING_SOURCES[image.source]}: ShadeCut reconstructs one still "
+                         "image; set its Source to Single Image, or choose another")
+    if image.source == "FILE" and not image.has_data and image.packed_file is None:
+        check_declared_size(f"Image '{image.name}'", bpy.path.abspath(image.filepath, library=image.library))
+    width, height = image.size
+    if width * height == 0:
+        raise InputError(f"Image '{image.name}' has no pixels (is its file missing?): reload it or choose another")
+    if width < 2 or height < 2:
+        raise InputError(f"Image '{image.name}' is {width} x {height} pixels: at least 2 x 2 are needed")
+    space = image.colorspace_settings.name
+    srgb = not image.is_float and space not in LINEAR_SPACES
+    if srgb and space != "sRGB":
+        raise InputError(f"Image '{image.name}' is in colour space '{space}': set it to sRGB or Linear")
+    factor = _shrink_factor(image.name, width, height, max_size)
+    stored = np.empty(width * height * image.channels, dtype=np.float32)
+    image.pixels.foreach_get(stored)
+    stored = stored.reshape(height, width, image.channels)  # row 0 at the bottom, as Blender keeps it
+    kept = height - height % factor  # the top rows: the bottom ones that fill no block are dropped
+    band = factor * max(1, BAND_PIXELS // (width * factor))
+    intensities, masks, bad = [], [], 0
+    for top in range(0, kept, band):
+        rows = min(band, kept - top)
+        intensity, mask, _ = imaging.intensity_and_mask(_rgba(stored[height - top - rows:height - top][::-1]),
+                                                        srgb_encoded=srgb)
+        finite = np.isfinite(intensity)
+        bad += np.count_nonzero(~finite & mask)
+        intensity[~finite] = 0.0  # outside the mask: unused
+        small, small_mask = imaging.shrink(intensity, mask, factor)
+        intensities.append(small)
+        masks.append(small_mask)
+    if bad:
+        raise InputError(f"Image '{image.name}' has {bad} NaN or infinite pixel{'s' if bad > 1 else ''}: "
+                         "shape from shading needs finite intensities")
+    return np.concatenate(intensities), np.concatenate(masks), factor
+
+
+def _rgba(pixels: np.ndarray) -> np.ndarray:
+    """(rows, W, C) pixels of any channel count as contiguous RGBA: grey spread to R, G and B, opaque
+    when there is no alpha."""
+    channels = pixels.shape[2]
+    if channels == 4:
+        return np.ascontiguousarray(pixels)
+    colour = np.repeat(pixels[..., :1], 3, axis=2) if channels < 3 else pixels[..., :3]
+    return np.dstack([colour, np.ones((*pixels.shape[:2], 1), np.float32)])
+
+
+def _shrink_factor(name: str, width: int, height: int, max_size: int) -> int:
+    try:
+        return imaging.shrink_factor(height, width, max_size)
+    except ValueError as error:
+        smallest = math.ceil(max(height, width) / (min(height, width) // 2))
+        raise InputError(f"Max size {max_size} px is too small for the {width} x {height} image '{name}' "
+                         f"(fewer than 2 x 2 pixels would remain): use at least {smallest}, or 0 for full size"
+                         ) from error
+
+
+def check_declared_size(label: str, path: str) -> None:
+    """InputError before Blender decodes the file at ``path`` when the size its header declares needs
+    more memory to read than this machine has available (``label`` names it in the message)."""
+    size, available = declared_size(path), available_memory()
+    if size is None or available is None:
+        return
+    width, height = size
+    needed = width * height * READ_BYTES_PER_PIXEL
+    if needed > available:
+        raise InputError(f"{label} is {width:,} x {height:,} pixels (its file's header says so): reading it takes "
+                         f"about {short_bytes(needed)}, more than the {short_bytes(available)} of memory available. "
+                         "Shrink it in an image editor first")
+
+
+def available_memory() -> Optional[int]:
+    """Bytes of memory available for new allocations (Linux's MemAvailable), or None where unknown."""
+    try:
+        with open("/proc/meminfo") as meminfo:
+            for line in meminfo:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError):
+        pass
+    return None
+
+
+def load_file(filepath: str) -> tuple[bpy.types.Image, bool]:
+    """The image of ``filepath`` and whether this call created its datablock (False when
+    ``check_existing`` handed back one the user already had)."""
+    path = bpy.path.abspath(filepath)
+    if not os.path.exists(path):
+        raise InputError(f"Cannot read '{filepath}': there is no such file")
+    if os.path.isdir(path):
+        raise InputError(f"Cannot read '{filepath}': it is a directory, not an image file")
+    kind = special_file_kind(path)
+    if kind is not None:  # Blender would wait on a pipe forever, and read a device without end
+        raise InputError(f"Cannot read '{filepath}': it is {kind}, not an image file")
+    check_declared_size(f"Image file '{filepath}'", path)
+    existing = {image.as_pointer() for image in bpy.data.images}
+    try:
+        image = bpy.data.images.load(filepath, check_existing=True)
+    except RuntimeError as error:
+        reason = str(error).strip()
+        reason = reason.removeprefix("Error:").strip().removeprefix(f"Cannot read '{filepath}':").strip()
+        raise InputError(f"Cannot read '{filepath}': {reason or 'Blender cannot load it'}") from error
+    created = image.as_pointer() not in existing
+    if tuple(image.size) == (0, 0):
+        if created:
+            bpy.data.images.remove(image)
+        raise InputError(f"Cannot read '{filepath}': it is not an image file Blender can read")
+    return image, created
+
+
+def image_to_reconstruct(context, settings, filepath: str) -> tuple[bpy.types.Image, bool, str]:
+    """The image to reconstruct, whether this call loaded it (see :func:`load_file`), and where it
+    came from when the panel did not name it ("" otherwise)."""
+    if filepath:
+        return (*load_file(filepath), "")
+    image, origin = _open_image(context, settings)
+    return image, False, origin
+
+
+def active_texture_node(context) -> Optional[bpy.types.Node]:
+    """The active object's active material's active node when it is an Image Texture node with an
+    image (what texture add-ons such as DeepBump act on), else None."""
+    obj = context.active_object
+    material = obj.active_material if obj is not None else None
+    if material is None or not material.use_nodes or material.node_tree is None:
+        return None
+    node = material.node_tree.nodes.active
+    if node is None or node.type != "TEX_IMAGE" or node.image is None:
+        return None
+    return node
+
+
+def _open_image(context, settings) -> tuple[bpy.types.Image, str]:
+    """The panel's image; else the image of the Image Editor the operator runs in; else the image of
+    the selected Image Texture node; else the image of any open Image Editor. With where it came from."""
+    if settings.image is not None:
+        return settings.image, ""
+    space = context.space_data
+    if space is not None and space.type == "IMAGE_EDITOR" and space.image is not None:
+        return space.image, ""
+    node = active_texture_node(context)
+    if node is not None:
+        material = context.active_object.active_material
+        return node.image, f"the Image Texture node '{node.name}' of material '{material.name}'"
+    for area in context.screen.areas if context.screen else ():
+        if area.type == "IMAGE_EDITOR" and area.spaces.active.image is not None:
+            return area.spaces.active.image, ""
+    raise InputError("No image: choose one in the ShadeCut panel, open one in the Image Editor, select an Image "
+                     "Texture node in the active object's material, or pick a file")
+
+

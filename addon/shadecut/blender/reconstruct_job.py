@@ -1,0 +1,313 @@
+"""A reconstruction as a job: prepared from the scene (settings, image, light; every check that
+can refuse the input), run on a worker thread or in place, and finished into the result object or
+the target's material (or nothing, when it failed or was cancelled)."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Optional
+
+import bpy
+import numpy as np
+
+from .. import api
+from .flip_operator import RESULT_PROPERTY, report_orientation
+from .frames import FrameError, light_in_camera_frame
+from .image_input import InputError, image_pixels, image_to_reconstruct
+from .preferences import addon_preferences
+from .mesh import MeshError, vertex_step
+from .result import TargetError, apply_maps, check_target, limited_depth_scale, result_object
+from .wording import short_number, with_article
+
+# Below this the image is black for the method: it needs shading to read slants from.
+DARK_LIMIT = 1e-4
+# Blender stores float properties as float32 and clamps an infinity typed or set to this.
+FLOAT_MAX = 3.4028234e38
+
+
+@dataclass
+class Job:
+    """Everything the worker thread needs, copied out of Blender's data before it starts."""
+
+    name: str
+    image: np.ndarray
+    mask: np.ndarray
+    light: Optional[np.ndarray]  # None = estimate from the image
+    light_origin: str  # how the finish report names the light: "estimated light", "light of Sun 'Sun'"
+    albedo: Optional[float]
+    options: dict
+    source_image: Optional[bpy.types.Image]
+    output: dict = field(default_factory=dict)  # how to build the result, read with the rest
+    created_image: bool = False  # the source image was loaded by this job: removed if it fails
+    image_origin: str = ""  # where an image the panel did not name came from: "the Image Texture node ..."
+    shrunk: str = ""  # how Max size shrank the image, for the finish report: ", worked at 512 x 384 (...)"
+    fraction: float = 0.0
+    stage: str = "starting"
+    cancel: bool = False
+    result: Optional[api.Reconstruction] = None
+    error: Optional[BaseException] = None
+    started: float = field(default_factory=time.perf_counter)
+
+    def progress(self, fraction: float, stage: str) -> bool:
+        self.fraction, self.stage = fraction, stage
+        return not self.cancel
+
+    def run(self) -> None:
+        try:
+            self.result = api.reconstruct(self.image, self.light, self.mask, self.albedo,
+                                          progress=self.progress, **self.options)
+        except BaseException as error:  # handed to the main thread, which reports it
+            self.error = error
+
+
+def _scene_sun(context) -> bpy.types.Object:
+    """The scene's only Sun, which stands in for a Sun not picked in the panel."""
+    suns = [obj for obj in context.scene.objects if obj.type == "LIGHT" and obj.data.type == "SUN"]
+    if len(suns) == 1:
+        return suns[0]
+    if not suns:
+        raise InputError("No Sun picked, and the scene has none: add a Sun and aim it as the light fell on the image, "
+                         "or set Light to Estimate")
+    names = ", ".join(f"'{sun.name}'" for sun in suns)
+    raise InputError(f"No Sun picked, and the scene has {len(suns)} ({names}): pick one in the ShadeCut panel, "
+                     "or set Light to Estimate")
+
+
+def _sun(context, settings) -> tuple[bpy.types.Object, str]:
+    """The Sun to read the light from, and how the finish report names its light."""
+    if settings.light_object is None:
+        sun = _scene_sun(context)
+        return sun, f"light of the scene's only Sun '{sun.name}'"
+    sun = settings.light_object
+    if sun.type == "LIGHT" and sun.data.type != "SUN":
+        raise InputError(f"Light '{sun.name}' is {with_article(sun.data.type)} light: shape from shading needs the "
+                         "parallel light of a Sun. Pick a Sun, or set Light to Estimate")
+    return sun, f"light of Sun '{sun.name}'"
+
+
+def _light(context, settings) -> tuple[Optional[np.ndarray], str]:
+    """The unit direction toward the light in the camera frame (None = estimate it), and how the
+    finish report names it."""
+    if settings.light_source == "ESTIMATE":
+        return None, "estimated light"
+    if settings.light_source == "DIRECTION":
+        light, origin = np.array(settings.light_direction, dtype=float), "light"
+    else:
+        sun, origin = _sun(context, settings)
+        context.view_layer.update()  # a script may have just moved the sun or the camera
+        camera = None
+        if settings.frame == "CAMERA":
+            camera = settings.camera or context.scene.camera
+            if camera is None:
+                raise InputError("No camera: choose one in the ShadeCut panel, add one to the scene, "
+                                 "or set Seen from to Top view")
+        try:
+            light = np.array(light_in_camera_frame(sun, camera))
+        except FrameError as error:
+            raise InputError(str(error)) from error
+    try:
+        return api.light_direction(light), origin
+    except ValueError as error:
+        shown = ", ".join(short_number(value) for value in light)
+        raise InputError(f"The light ({shown}) cannot be used: {error}") from error
+
+
+def _finite(value: float) -> bool:
+    return math.isfinite(value) and abs(value) < FLOAT_MAX
+
+
+def _check_output(settings) -> None:
+    """The result's size and scale: cheap checks before any work."""
+    if not (_finite(settings.width) and settings.width > 0):
+        raise InputError(f"Width must be a finite number > 0 (it is {settings.width:g})")
+    if not _finite(settings.depth_scale):
+        raise InputError(f"Depth scale must be a finite number (it is {settings.depth_scale:g})")
+    if not (_finite(settings.max_height) and settings.max_height >= 0):
+        raise InputError(f"Max height must be a finite number >= 0 (it is {settings.max_height:g})")
+
+
+def _has_face(mask: np.ndarray, step: int) -> bool:
+    """Whether sampling ``mask`` every ``step`` pixels leaves four masked neighbours (one quad)."""
+    sampled = mask[::step, ::step]
+    if min(sampled.shape) < 2:
+        return False
+    return bool((sampled[:-1, :-1] & sampled[1:, :-1] & sampled[:-1, 1:] & sampled[1:, 1:]).any())
+
+
+def mesh_step(mask: np.ndarray, density: int, max_vertices: int) -> int:
+    """The result's sampling step: ``density``, or with density 0 the finest within ``max_vertices``."""
+    return density or vertex_step(mask, max_vertices)
+
+
+def _check_density(name: str, mask: np.ndarray, density: int, max_vertices: int) -> None:
+    """A step that leaves fewer than 2 x 2 samples, or no face, would give an empty mesh."""
+    step = mesh_step(mask, density, max_vertices)
+    if _has_face(mask, step):
+        return
+    height, width = mask.shape
+    usable = next((smaller for smaller in range(min(min(height, width) - 1, step - 1), 0, -1)
+                   if _has_face(mask, smaller)), 0)
+    if usable == 0:
+        raise InputError(f"Image '{name}' has no 2 x 2 block of masked pixels at its {width} x {height} working "
+                         "size: there is no surface to build")
+    if density:
+        raise InputError(f"Density {density} leaves no face on the {width} x {height} working image of '{name}': "
+                         f"the largest usable density is {usable}")
+    raise InputError(f"Vertex limit {max_vertices:,} gives density {step}, which leaves no face on the {width} x "
+                     f"{height} working image of '{name}': raise the Vertex limit, or set Density to {usable} or less")
+
+
+def prepare_job(context, filepath: str = "") -> Job:
+    """Reads the settings and the image into a :class:`Job`; raises InputError for bad input.
+
+    An image loaded from ``filepath`` by this call is removed again when the input is refused.
+    """
+    settings = context.scene.shadecut
+    _check_output(settings)
+    source, created, origin = image_to_reconstruct(context, settings, filepath)
+    try:
+        job = _prepare(context, settings, source, created)
+    except BaseException:
+        if created:
+            bpy.data.images.remove(source)
+        raise
+    job.image_origin = origin
+    return job
+
+
+def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
+    image, mask, factor = image_pixels(source, settings.max_resolution)
+    if not mask.any():
+        raise InputError(f"Image '{source.name}' is transparent everywhere: its alpha leaves no pixel to reconstruct")
+    if not image[mask].max() > DARK_LIMIT:
+        raise InputError(f"Image '{source.name}' is black: shape from shading needs a lit, shaded surface")
+    if settings.target == "ACTIVE_MATERIAL":
+        try:
+            check_target(context.active_object, normal_map=settings.normal_map, height_map=settings.height_map)
+        except TargetError as error:
+            raise InputError(str(error)) from error
+    else:
+        _check_density(source.name, mask, settings.density, settings.max_vertices)
+    light, light_origin = _light(context, settings)
+
+    preferences = addon_preferences(context)
+    method = settings.method
+    if method == "DEFAULT":
+        method = preferences.default_method if preferences else api.ReconstructOptions().method.name
+    seamless = settings.seamless and settings.scene == "relief"
+    if seamless:
+        mask = np.ones_like(mask)  # a tiling surface covers the whole image
+    options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,
+                   integrator=settings.integrator, fit_shading=settings.fit_shading, seamless=seamless,
+                   threads=preferences.threads if preferences else 0)
+    return Job(
+        name=Path(source.name).stem or source.name,
+        image=image,
+        mask=mask,
+        light=light,
+        light_origin=light_origin,
+        albedo=None if settings.auto_albedo or light is None else settings.albedo,
+        options=options,
+        source_image=source,
+        output=_output_settings(settings, context),
+        created_image=created,
+        shrunk=_shrunk(source, image.shape, factor, settings.max_resolution),
+    )
+
+
+def _shrunk(source: bpy.types.Image, working: tuple[int, int], factor: int, max_size: int) -> str:
+    """What the finish report says of the working size: nothing at full size."""
+    if factor == 1:
+        return ""
+    width, height = source.size
+    return f", worked at {working[1]} x {working[0]} (1/{factor} of {width} x {height}: Max size {max_size} px)"
+
+
+def _output_settings(settings, context=None) -> dict:
+    target = None  # the name of the object whose material gets the maps; None = a new object
+    if settings.target == "ACTIVE_MATERIAL" and context is not None and context.active_object is not None:
+        target = context.active_object.name
+    return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=settings.max_height,
+                density=settings.density, max_vertices=settings.max_vertices, displace=settings.output == "DISPLACE",
+                normal_map=settings.normal_map, height_map=settings.height_map, target=target)
+
+
+def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
+    """Puts the finished job's maps into the target object's material (result.apply_maps)."""
+    result = job.result
+    obj = context.scene.objects.get(out["target"])
+    try:
+        material = apply_maps(obj, result.depth, result.normals, result.mask, normal_map=out["normal_map"],
+                              height_map=out["height_map"], depth_scale=out["depth_scale"],
+                              max_height=out["max_height"])
+    except TargetError as error:
+        discard_job(job)
+        operator.report({"ERROR"}, f"Cannot apply the maps: {error}")
+        return {"CANCELLED"}
+    maps = " and ".join(kind for kind, wanted in (("normal map", out["normal_map"]), ("height map", out["height_map"]))
+                        if wanted)
+    light = ", ".join(f"{v:.3f}" for v in result.light)
+    operator.report({"INFO"}, f"{maps.capitalize()} of image '{job.source_image.name}' applied to "
+                              f"material '{material.name}' of '{obj.name}': {job.options['method']} in "
+                              f"{time.perf_counter() - job.started:.1f} s, {job.light_origin} ({light}), "
+                              f"albedo {result.albedo:.3f}{job.shrunk}")
+    report_orientation(operator, result)
+    return {"FINISHED"}
+
+
+def discard_job(job: Job) -> None:
+    """Removes what a failed or cancelled job brought in: the image it loaded itself, if any."""
+    if job.created_image and job.source_image is not None:
+        try:
+            bpy.data.images.remove(job.source_image)
+        except ReferenceError:  # already gone (the user removed it meanwhile)
+            pass
+        job.source_image, job.created_image = None, False
+
+
+def finish_job(operator, context, job: Job) -> set[str]:
+    """Reports the outcome of a finished job and, on success, builds the result object (or, with
+    Apply to = Active object, puts the maps into that object's material).
+
+    On failure nothing is added, and an image the job loaded itself is removed again.
+    """
+    if job.error is not None:
+        discard_job(job)
+    if isinstance(job.error, api.Cancelled):
+        operator.report({"WARNING"}, "Reconstruction cancelled: nothing was added")
+        return {"CANCELLED"}
+    if isinstance(job.error, ValueError):
+        operator.report({"ERROR"}, f"Cannot reconstruct: {job.error}")
+        return {"CANCELLED"}
+    if job.error is not None:
+        operator.report({"ERROR"}, f"Reconstruction failed ({type(job.error).__name__}: {job.error})")
+        return {"CANCELLED"}
+    out = job.output or _output_settings(context.scene.shadecut, context)
+    if out.get("target"):
+        return _finish_on_target(operator, context, job, out)
+    result = job.result
+    step = mesh_step(result.mask, out["density"], out["max_vertices"])
+    try:
+        obj = result_object(
+            context, job.name, result.depth, result.normals, result.mask,
+            source_image=job.source_image, width=out["width"],
+            depth_scale=limited_depth_scale(result.depth, result.mask, out["width"], out["depth_scale"],
+                                            out["max_height"]),
+            density=step, displace=out["displace"], normal_map=out["normal_map"], height_map=out["height_map"],
+        )
+    except MeshError as error:
+        discard_job(job)
+        operator.report({"ERROR"}, f"Cannot build the result: {error}")
+        return {"CANCELLED"}
+    light = ", ".join(f"{v:.3f}" for v in result.light)
+    source = f"image '{job.source_image.name}' from {job.image_origin}, " if job.image_origin else ""
+    operator.report({"INFO"}, f"'{obj.name}': {source}{job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
+                              f"{job.light_origin} ({light}), albedo {result.albedo:.3f}, "
+                              f"{len(obj.data.vertices):,} vertices (density {step}){job.shrunk}")
+    obj[RESULT_PROPERTY] = True
+    report_orientation(operator, result)
+    return {"FINISHED"}
+

@@ -1,0 +1,141 @@
+"""An image file's width and height read from its header, without decoding any pixel.
+
+For the Blender add-on, whose zip has no OpenImageIO: it must know how large an image is before
+Blender decodes it (a few hundred kilobytes of PNG can declare 16000 x 16000 pixels, gigabytes once
+decoded). The formats are those Blender reads and users bring: PNG, JPEG, TIFF, OpenEXR, Radiance
+HDR, BMP, Targa and WebP. Anything else, or a header this module cannot make sense of, gives None:
+the caller then learns the size from the decoder, as before. No ``bpy`` here.
+"""
+
+from __future__ import annotations
+
+import os
+import struct
+from typing import BinaryIO, Optional
+
+# The header fields sought lie within this many bytes of the start (JPEG: after the EXIF and ICC segments).
+SEARCH_LIMIT = 1 << 20
+_JPEG_FRAMES = {0xC0, 0xC1, 0xC2, 0xC3, 0xC5, 0xC6, 0xC7, 0xC9, 0xCA, 0xCB, 0xCD, 0xCE, 0xCF}
+
+
+def declared_size(path: str | os.PathLike) -> Optional[tuple[int, int]]:
+    """(width, height) as the file's header declares them, or None when the format is not one of the
+    module's or the header is unreadable."""
+    try:
+        with open(path, "rb") as file:
+            start = file.read(64)
+            for reader in (_png, _jpeg, _tiff, _exr, _hdr, _bmp, _webp):
+                size = reader(start, file)
+                if size is not None:
+                    break
+            else:
+                size = _tga(start) if os.fspath(path).lower().endswith(".tga") else None
+    except (OSError, ValueError, struct.error):
+        return None
+    if size is None or min(size) < 1:
+        return None
+    return size
+
+
+def _png(start: bytes, file: BinaryIO) -> Optional[tuple[int, int]]:
+    if not start.startswith(b"\x89PNG\r\n\x1a\n") or start[12:16] != b"IHDR":
+        return None
+    return struct.unpack(">II", start[16:24])
+
+
+def _jpeg(start: bytes, file: BinaryIO) -> Optional[tuple[int, int]]:
+    if not start.startswith(b"\xff\xd8"):
+        return None
+    file.seek(2)
+    while file.tell() < SEARCH_LIMIT:
+        marker = file.read(2)
+        while marker[:1] == b"\xff" and marker[1:] == b"\xff":  # fill bytes before a marker
+            marker = marker[1:] + file.read(1)
+        if len(marker) < 2 or marker[0] != 0xFF:
+            return None
+        if marker[1] in _JPEG_FRAMES:
+            _length, _precision, height, width = struct.unpack(">HBHH", file.read(7))
+            return width, height
+        (length,) = struct.unpack(">H", file.read(2))
+        file.seek(length - 2, os.SEEK_CUR)
+    return None
+
+
+def _tiff(start: bytes, file: BinaryIO) -> Optional[tuple[int, int]]:
+    order = {b"II*\x00": "<", b"MM\x00*": ">"}.get(start[:4])
+    if order is None:
+        return None
+    (offset,) = struct.unpack(order + "I", start[4:8])
+    file.seek(offset)
+    (count,) = struct.unpack(order + "H", file.read(2))
+    found = {}
+    for _ in range(count):
+        tag, kind, _items, value = struct.unpack(order + "HHI4s", file.read(12))
+        if tag in (256, 257):  # ImageWidth, ImageLength: a SHORT or a LONG held in the entry itself
+            found[tag] = struct.unpack(order + ("H" if kind == 3 else "I"), value[:2 if kind == 3 else 4])[0]
+    return (found[256], found[257]) if len(found) == 2 else None
+
+
+def _exr(start: bytes, file: BinaryIO) -> Optional[tuple[int, int]]:
+    if not start.startswith(b"\x76\x2f\x31\x01"):
+        return None
+    file.seek(8)
+    while file.tell() < SEARCH_LIMIT:
+        name, kind = _c_string(file), _c_string(file)
+        if not name:  # the end of the (first part's) header
+            return None
+        (length,) = struct.unpack("<i", file.read(4))
+        value = file.read(length)
+        if name == b"dataWindow" and kind == b"box2i":
+            x_min, y_min, x_max, y_max = struct.unpack("<iiii", value)
+            return x_max - x_min + 1, y_max - y_min + 1
+    return None
+
+
+def _c_string(file: BinaryIO) -> bytes:
+    text = b""
+    while len(text) < 256:
+        char = file.read(1)
+        if char in (b"", b"\x00"):
+            return text
+        text += char
+    raise ValueError("not a header attribute name")
+
+
+def _hdr(start: bytes, file: BinaryIO) -> Optional[tuple[int, int]]:
+    if not (start.startswith(b"#?RADIANCE") or start.startswith(b"#?RGBE")):
+        return None
+    file.seek(0)
+    lines = file.read(SEARCH_LIMIT // 16).split(b"\n")
+    blank = lines.index(b"")  # the header ends with an empty line; the resolution line follows it
+    first_axis, first, _second_axis, second = lines[blank + 1].split()[:4]
+    return (int(second), int(first)) if first_axis[1:] == b"Y" else (int(first), int(second))
+
+
+def _bmp(start: bytes, file: BinaryIO) -> Optional[tuple[int, int]]:
+    if not start.startswith(b"BM"):
+        return None
+    (info_size,) = struct.unpack("<I", start[14:18])
+    if info_size == 12:  # the old OS/2 header: 16-bit sizes
+        return struct.unpack("<HH", start[18:22])
+    width, height = struct.unpack("<ii", start[18:26])
+    return width, abs(height)  # a negative height stores the rows top-down
+
+
+def _webp(start: bytes, file: BinaryIO) -> Optional[tuple[int, int]]:
+    if start[:4] != b"RIFF" or start[8:12] != b"WEBP":
+        return None
+    chunk = start[12:16]
+    if chunk == b"VP8 ":
+        width, height = struct.unpack("<HH", start[26:30])
+        return width & 0x3FFF, height & 0x3FFF
+    if chunk == b"VP8L":
+        (bits,) = struct.unpack("<I", start[21:25])
+        return (bits & 0x3FFF) + 1, ((bits >> 14) & 0x3FFF) + 1
+    if chunk == b"VP8X":
+        return int.from_bytes(start[24:27], "little") + 1, int.from_bytes(start[27:30], "little") + 1
+    return None
+
+
+def _tga(start: bytes) -> Optional[tuple[int, int]]:
+    return struct.unpack("<HH", start[12:16])

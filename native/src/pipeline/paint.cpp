@@ -1,0 +1,91 @@
+// reconstruct(): the paint separated from the shading first when the albedo method reads it per pixel,
+// the shape then read from the shading image of one albedo.
+#include <shadecut/estimate/estimate_reflectance.hpp>
+#include <shadecut/pipeline/reconstruct.hpp>
+#include <shadecut/support/errors.hpp>
+#include <shadecut/support/validate.hpp>
+
+#include "pipeline/reconstruct_shading.hpp"
+#include "support/stopwatch.hpp"
+
+#include <cmath>
+
+namespace shadecut {
+
+namespace {
+
+void check_paint_options(const ReconstructOptions& options) {
+  auto finite = [](double value) { return std::isfinite(value); };
+  if (!(options.retinex_chroma_edge >= 0.0) || !finite(options.retinex_chroma_edge))
+    throw InvalidArgument("shadecut: retinex_chroma_edge must be finite and >= 0; got " + std::to_string(options.retinex_chroma_edge));
+  if (!finite(options.retinex_intensity_edge))
+    throw InvalidArgument("shadecut: retinex_intensity_edge must be finite (<= 0: off)");
+  if (!finite(options.retinex_highlight))
+    throw InvalidArgument("shadecut: retinex_highlight must be finite (<= 0: none)");
+  if (options.retinex_rim < 0)
+    throw InvalidArgument("shadecut: retinex_rim must be >= 0; got " + std::to_string(options.retinex_rim));
+}
+
+Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
+                                 const Mask* mask_in, std::optional<double> albedo, const ReconstructOptions& options) {
+  check_paint_options(options);
+  const bool painted = !albedo && options.albedo_method == AlbedoMethod::Retinex;
+  Reconstruction result;
+  if (painted) {
+    check_image(image);
+    const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);
+    check_mask(mask, image);
+    const Stopwatch stopwatch;
+    const Reflectance reflectance =
+        estimate_reflectance(image, colour, mask, reflectance_params(options), Progress(options.progress).range(0.0, 0.0));
+    const double seconds = stopwatch.seconds();
+    ReconstructOptions shading_options = options;
+    shading_options.albedo_method = AlbedoMethod::TopFit;
+    result = detail::reconstruct_shading(mask.select(image / reflectance.relative, 0.0f), light, &mask, albedo, shading_options);
+    result.albedo_map = mask.select(reflectance.relative * float(result.albedo), 0.0f);
+    result.stats.seconds["albedo"] = seconds;
+    result.stats.seconds["total"] += seconds;
+  } else {
+    result = detail::reconstruct_shading(image, light, mask_in, albedo, options);
+    result.albedo_map = result.mask.select(ImageF::Constant(image.rows(), image.cols(), float(result.albedo)), 0.0f);
+  }
+  if (colour) result.albedo_colour = reflectance_colour(image, *colour, result.mask, result.albedo_map);
+  return result;
+}
+
+}  // namespace
+
+ReflectanceParams reflectance_params(const ReconstructOptions& options) {
+  ReflectanceParams params;
+  params.chroma_edge = options.retinex_chroma_edge;
+  params.intensity_edge = options.retinex_intensity_edge;
+  params.rim = options.scene == SceneKind::Object ? options.retinex_rim : 0;
+  params.highlight = options.retinex_highlight;
+  return params;
+}
+
+ImageF luminance(const ColourImage& colour) {
+  for (const ImageF& channel : colour.channel)
+    if (channel.rows() != colour.rows() || channel.cols() != colour.cols())
+      throw InvalidArgument("shadecut: the colour image's channels differ in shape");
+  return (colour.channel[0].cast<double>() * kLuminanceWeights[0] + colour.channel[1].cast<double>() * kLuminanceWeights[1] +
+          colour.channel[2].cast<double>() * kLuminanceWeights[2])
+      .cast<float>();
+}
+
+Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,
+                           std::optional<double> albedo, const ReconstructOptions& options) {
+  return reconstruct_image(image, nullptr, light, mask, albedo, options);
+}
+
+Reconstruction reconstruct(const ColourImage& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,
+                           std::optional<double> albedo, const ReconstructOptions& options) {
+  const ImageF intensity = luminance(image);
+  for (const ImageF& channel : image.channel) {
+    check_image(channel);
+    if (channel.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative values; linear RGB is >= 0");
+  }
+  return reconstruct_image(intensity, &image, light, mask, albedo, options);
+}
+
+}  // namespace shadecut
