@@ -23,7 +23,8 @@ The paint separation (albedo_method retinex) is chosen by the same procedure wit
 training surfaces painted (shadecut.synthetic.paint: patches, stripes, text, seeds of their own) and
 plain, under their own light, with sensor noise (sigma = 0.01 sqrt(I) + 0.003 per channel), scored by
 graphcut's mean angular error (true light, albedo estimated): first the two edge thresholds together,
-then the rim, then the highlight factor on the same renders with a Blinn-Phong lobe; last, retinex
+then the rim, then the highlight factor on the same renders with each Blinn-Phong lobe of the albedo's
+training (TRAINING_HIGHLIGHTS, up to twice the diffuse albedo, clipped at 1) too; last, retinex
 with the chosen values against top_fit decides albedo_method's default.
 
 graphcut's coarse_to_fine_radius trades speed for accuracy, so it is not chosen by the lowest error
@@ -320,7 +321,7 @@ def tune_retinex(surfaces: dict) -> None:
         by_rim.append((score(renders, **{**chosen, "retinex_rim": rim}), rim))
         print(f"  rim {rim}: {by_rim[-1][0]:.2f} deg", flush=True)
     chosen["retinex_rim"] = min(by_rim)[1]
-    shiny = painted_renders(surfaces, highlight=(0.5, 100.0)) + renders
+    shiny = [render for highlight in TRAINING_HIGHLIGHTS[1:] for render in painted_renders(surfaces, highlight)] + renders
     by_highlight = []
     for factor in RETINEX_HIGHLIGHTS:
         by_highlight.append((score(shiny, **{**chosen, "retinex_highlight": factor}), factor))

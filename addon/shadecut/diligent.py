@@ -119,7 +119,9 @@ def _select(layout: dict, images: Optional[Iterable[Union[int, str]]], source: P
     return chosen
 
 
-def _normals(path: Path, shape: tuple) -> np.ndarray:
+def read_normals(path: Path, shape: tuple) -> np.ndarray:
+    """The measured normals of Normal_gt.mat, (H, W, 3) float32 in the camera frame (NaN as 0);
+    ValueError naming the file when it cannot be read or is not of the mask's shape."""
     from scipy.io import loadmat  # only here: the add-on's other modules run without scipy
 
     try:
@@ -190,7 +192,7 @@ def import_diligent(source: Union[os.PathLike, str], out: Union[os.PathLike, str
     mask = mask_pixels[..., 0] > 0.5
     if not mask.any():
         raise ValueError(f"shadecut: the mask {source / 'mask.png'} is empty")
-    normals = _normals(source / "Normal_gt.mat", mask.shape)
+    normals = read_normals(source / "Normal_gt.mat", mask.shape)
     normals = np.where(mask[..., None], normals, 0).astype(np.float32)
     obj = object_name(source)
 

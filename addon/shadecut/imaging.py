@@ -24,20 +24,25 @@ def srgb_to_linear(encoded) -> np.ndarray:
     return np.asarray(_core.srgb_to_linear(np.asarray(encoded, dtype=float)), dtype=np.float32)
 
 
-def intensity_and_mask(rgba: np.ndarray, *, srgb_encoded: bool) -> tuple[np.ndarray, np.ndarray, bool]:
-    """Linear intensity and mask from an (H, W, 4) RGBA buffer with row 0 at the top.
+def decode_rgba(rgba: np.ndarray, *, srgb_encoded: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Linear intensity (H, W), mask (H, W) and linear RGB (H, W, 3) from an (H, W, 4) RGBA buffer
+    with row 0 at the top: the rule ``shadecut.load_image`` follows (Rec. 709 luminance after
+    decoding; alpha > 0.5 is the mask)."""
+    rgba = np.asarray(rgba, dtype=np.float32)
+    if rgba.ndim != 3 or rgba.shape[2] != 4:
+        raise ValueError(f"expected an (H, W, 4) RGBA buffer, got shape {rgba.shape}")
+    return _core.intensity_from_pixels(rgba, srgb_encoded, 3)
 
-    Colour becomes Rec. 709 luminance after decoding, as ``shadecut.load_image`` does. Alpha > 0.5
-    is the mask; an image whose alpha is 1 everywhere has no mask (all pixels).
+
+def intensity_and_mask(rgba: np.ndarray, *, srgb_encoded: bool) -> tuple[np.ndarray, np.ndarray, bool]:
+    """Linear intensity and mask from an (H, W, 4) RGBA buffer with row 0 at the top (:func:`decode_rgba`).
+    An image whose alpha is 1 everywhere has no mask (all pixels).
 
     Returns:
         intensity (H, W) float32 linear, mask (H, W) bool, has_alpha.
     """
-    rgba = np.asarray(rgba, dtype=np.float32)
-    if rgba.ndim != 3 or rgba.shape[2] != 4:
-        raise ValueError(f"expected an (H, W, 4) RGBA buffer, got shape {rgba.shape}")
-    intensity, mask = _core.intensity_from_pixels(rgba, srgb_encoded, 3)
-    return intensity, mask, bool((rgba[..., 3] < 1.0).any())
+    intensity, mask, _ = decode_rgba(rgba, srgb_encoded=srgb_encoded)
+    return intensity, mask, bool((np.asarray(rgba)[..., 3] < 1.0).any())
 
 
 def shrink_factor(height: int, width: int, max_size: int) -> int:

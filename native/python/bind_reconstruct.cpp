@@ -22,10 +22,11 @@ namespace {
 
 // Binds an enum whose Python names are the library's own names (to_string), so that Method.graphcut
 // and "graphcut" mean the same everywhere.
+// Every value of an enum, named by its one table of names (value i is names[i]).
 template <class Enum>
-void bind_enum(py::module_& m, const char* name, const char* doc, std::initializer_list<Enum> values) {
+void bind_enum(py::module_& m, const char* name, const char* doc, const std::vector<std::string>& names) {
   py::enum_<Enum> bound(m, name, doc);
-  for (Enum value : values) bound.value(to_string(value).c_str(), value);
+  for (std::size_t i = 0; i < names.size(); ++i) bound.value(names[i].c_str(), static_cast<Enum>(i));
 }
 
 // value cast to the option's type; pybind11's own message for a wrong type names neither the option
@@ -85,13 +86,11 @@ py::array view(const py::object& owner, std::vector<py::ssize_t> shape, const fl
 }  // namespace
 
 void bind_reconstruct(py::module_& m) {
-  bind_enum<Method>(m, "Method", "Reconstruction methods (docs/method.md)",
-                    {Method::GraphCut, Method::GraphCutTwo, Method::LeeRosenfeld, Method::BrooksHorn, Method::TsaiShah, Method::Upwind});
-  bind_enum<Integrator>(m, "Integrator", "Normal integrators", {Integrator::Poisson, Integrator::FrankotChellappa});
-  bind_enum<LightMethod>(m, "LightMethod", "Light estimators",
-                         {LightMethod::LeeRosenfeld, LightMethod::ZhengChellappa, LightMethod::Relief, LightMethod::Contour});
-  bind_enum<SceneKind>(m, "SceneKind", "What the image shows", {SceneKind::Object, SceneKind::Relief});
-  bind_enum<AlbedoMethod>(m, "AlbedoMethod", "Albedo estimators", {AlbedoMethod::Brightest, AlbedoMethod::TopFit});
+  bind_enum<Method>(m, "Method", "Reconstruction methods (docs/method.md)", method_names());
+  bind_enum<Integrator>(m, "Integrator", "Normal integrators", integrator_names());
+  bind_enum<LightMethod>(m, "LightMethod", "Light estimators", light_method_names());
+  bind_enum<SceneKind>(m, "SceneKind", "What the image shows", scene_kind_names());
+  bind_enum<AlbedoMethod>(m, "AlbedoMethod", "Albedo estimators (one value, or per pixel: retinex)", albedo_method_names());
 
   py::class_<ReconstructOptions> options(m, "ReconstructOptions",
                                          "Every setting of reconstruct() with its default (native/include/shadecut/reconstruct.hpp).");

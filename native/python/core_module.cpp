@@ -140,7 +140,7 @@ PYBIND11_MODULE(_core, m) {
     const int channels = int(pixels.shape(2));
     const shadecut::Intensity decoded = shadecut::intensity_from_pixels(
         pixels.data(), int(pixels.shape(0)), int(pixels.shape(1)), channels, alpha.value_or(shadecut::default_alpha_channel(channels)), srgb);
-    return py::make_tuple(from_image(decoded.intensity), from_mask(decoded.mask));
+    return py::make_tuple(from_image(decoded.intensity), from_mask(decoded.mask), from_colour(decoded.colour));
   });
 
   m.def("srgb_to_linear", py::vectorize([](double encoded) { return shadecut::srgb_to_linear(encoded); }));

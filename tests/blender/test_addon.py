@@ -93,7 +93,11 @@ def test_result_has_uvs_material_and_smooth_faces(addon, sphere_png):
     assert all(polygon.use_smooth for polygon in mesh.polygons)
     assert mesh.uv_layers.active.name == "UVMap"
     texture = next(node for node in mesh.materials[0].node_tree.nodes if node.type == "TEX_IMAGE")
-    assert texture.image == settings.image
+    assert texture.image.name == "sphere albedo"  # the de-lit colour, not the shaded photo
+    albedo = pixels_of(texture.image).reshape(*truth.mask.shape, 4)[::-1]  # Blender keeps row 0 at the bottom
+    lit = albedo[truth.mask][:, :3]
+    np.testing.assert_allclose(lit, lit[0, 0], rtol=1e-6)  # one albedo: a uniform colour, no shading left
+    assert abs(lit[0, 0] - 1.0) < 0.05  # the sphere was rendered with albedo 1
     normal_map = bpy.data.images["sphere normals"]
     assert tuple(normal_map.size) == truth.mask.shape[::-1]
 
@@ -158,7 +162,7 @@ def test_pixels_read_in_bands_are_those_of_the_whole_image(addon, monkeypatch, m
     image = bpy.data.images.new("noise", width, height, alpha=True, float_buffer=True)
     image.pixels.foreach_set(rgba.ravel())
     monkeypatch.setattr(image_input, "BAND_PIXELS", 3 * width)  # several bands, each of whole blocks
-    intensity, mask, factor = image_input.image_pixels(image, max_size)
+    intensity, mask, factor, _ = image_input.image_pixels(image, max_size)
     stored = np.empty(len(image.pixels), np.float32)
     image.pixels.foreach_get(stored)
     whole = stored.reshape(height, width, image.channels)[::-1]
@@ -239,7 +243,7 @@ def test_blender_pixels_are_the_linear_values_load_image_reads(addon, tmp_path, 
     else:
         shadecut.save_image(path, scene.image, scene.mask)
     loaded = shadecut.load_image(path)
-    intensity, mask, factor = image_input.image_pixels(bpy.data.images.load(str(path)))
+    intensity, mask, factor, _ = image_input.image_pixels(bpy.data.images.load(str(path)))
     assert factor == 1
     np.testing.assert_allclose(intensity, loaded.image, atol=2e-4)
     np.testing.assert_array_equal(mask, loaded.mask)
@@ -395,3 +399,26 @@ def test_without_openimageio_the_render_panel_says_why_and_the_operator_is_greye
     assert " ".join(labels).startswith(reason[:40])
     monkeypatch.undo()
     assert bpy.ops.shadecut.render_lambertian.poll()
+
+
+def test_a_painted_photo_gives_its_de_lit_colour_as_the_material(addon, tmp_path):
+    scene = synthetic.sphere((0.4, 0.3, 1.0), 96)
+    colour, paint = synthetic.painted(scene, "patches", 4)
+    path = tmp_path / "painted.exr"
+    shadecut.save_image(path, colour, scene.mask)
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.light_source, settings.light_direction = "DIRECTION", (0.4, 0.3, 1.0)
+    settings.albedo_method = "retinex"
+    job = reconstruct_job.prepare_job(bpy.context)
+    assert job.colour is not None and job.colour.shape == (96, 96, 3)
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    texture = next(node for node in bpy.context.active_object.data.materials[0].node_tree.nodes if node.type == "TEX_IMAGE")
+    assert texture.image.name == "painted albedo"
+    albedo = pixels_of(texture.image).reshape(96, 96, 4)[::-1][..., :3]
+    core = shadecut.reconstruct(colour, (0.4, 0.3, 1.0), scene.mask, albedo_method="retinex")
+    np.testing.assert_allclose(albedo[scene.mask], core.albedo_colour[scene.mask], rtol=1e-5, atol=1e-6)
+    # The paint's colours, not the shading: its hue follows the true paint's.
+    lit = scene.mask & (scene.image > 0.2)
+    hue = lambda rgb: rgb / rgb.sum(axis=-1, keepdims=True)
+    assert np.abs(hue(albedo[lit]) - hue(paint[lit])).mean() < 0.02

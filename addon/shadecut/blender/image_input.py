@@ -38,10 +38,10 @@ class InputError(ValueError):
     """Bad input the user can fix; the message says how."""
 
 
-def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray, np.ndarray, int]:
+def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray, np.ndarray, int, np.ndarray | None]:
     """Linear intensity (h, w) and mask (h, w) of a Blender image, row 0 at the top, shrunk by the
-    whole factor that Max size ``max_size`` asks for (imaging.shrink_factor; 0 = full size), and that
-    factor.
+    whole factor that Max size ``max_size`` asks for (imaging.shrink_factor; 0 = full size), that
+    factor, and the linear RGB (h, w, 3) of a colour image (None for a grey one), shrunk alike.
 
     Float buffers hold scene-linear values; byte buffers hold the file's encoded values, decoded
     here according to the image's colour space. A file Blender has not decoded yet is first checked
@@ -68,21 +68,26 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
     stored = stored.reshape(height, width, image.channels)  # row 0 at the bottom, as Blender keeps it
     kept = height - height % factor  # the top rows: the bottom ones that fill no block are dropped
     band = factor * max(1, BAND_PIXELS // (width * factor))
-    intensities, masks, bad = [], [], 0
+    in_colour = image.channels >= 3
+    intensities, masks, colours, bad = [], [], [], 0
     for top in range(0, kept, band):
         rows = min(band, kept - top)
-        intensity, mask, _ = imaging.intensity_and_mask(_rgba(stored[height - top - rows:height - top][::-1]),
-                                                        srgb_encoded=srgb)
+        intensity, mask, colour = imaging.decode_rgba(_rgba(stored[height - top - rows:height - top][::-1]),
+                                                      srgb_encoded=srgb)
         finite = np.isfinite(intensity)
         bad += np.count_nonzero(~finite & mask)
         intensity[~finite] = 0.0  # outside the mask: unused
         small, small_mask = imaging.shrink(intensity, mask, factor)
         intensities.append(small)
         masks.append(small_mask)
+        if in_colour:
+            colour[~finite] = 0.0
+            colours.append(np.dstack([imaging.shrink(np.ascontiguousarray(colour[..., k]), mask, factor)[0]
+                                      for k in range(3)]))
     if bad:
         raise InputError(f"Image '{image.name}' has {bad} NaN or infinite pixel{'s' if bad > 1 else ''}: "
                          "shape from shading needs finite intensities")
-    return np.concatenate(intensities), np.concatenate(masks), factor
+    return np.concatenate(intensities), np.concatenate(masks), factor, np.concatenate(colours) if in_colour else None
 
 
 def _rgba(pixels: np.ndarray) -> np.ndarray:

@@ -70,6 +70,7 @@ def draw_advanced_settings(layout, settings) -> None:
     column.prop(settings, "data_weight")
     column.prop(settings, "integrator")
     column.prop(settings, "fit_shading")
+    column.prop(settings, "albedo_method")
     row = column.row(heading="Albedo")
     row.active = settings.light_source != "ESTIMATE"  # Estimate finds the albedo with the light
     row.prop(settings, "auto_albedo", text="Auto")

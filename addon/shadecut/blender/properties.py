@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import bpy
 
-from ..api import MIN_LABELS, Integrator, ReconstructOptions, SceneKind
+from ..api import MIN_LABELS, AlbedoMethod, Integrator, ReconstructOptions, SceneKind
 from . import lambertian
 from .preferences import METHOD_ITEMS
 
@@ -22,6 +22,13 @@ SCENE_DESCRIPTIONS = {
 }
 SCENE_ITEMS = tuple((name, *SCENE_DESCRIPTIONS.get(name, (name, name))) for name in SceneKind.__members__)
 INTEGRATOR_ITEMS = tuple((name, *INTEGRATOR_DESCRIPTIONS.get(name, (name, name))) for name in Integrator.__members__)
+PAINT_DESCRIPTIONS = {
+    "top_fit": ("One colour", "The object has one paint: every change of brightness is shape"),
+    "brightest": ("One colour, brightest", "One paint, read from the brightest pixel (no highlights in the photo)"),
+    "retinex": ("Painted", "Paint, print or stains: changes of colour (and sharp changes of brightness) are paint, "
+                           "not shape; the de-lit colour becomes the material's colour"),
+}
+PAINT_ITEMS = tuple((name, *PAINT_DESCRIPTIONS.get(name, (name, name))) for name in AlbedoMethod.__members__)
 
 
 def _is_light(_settings, obj) -> bool:
@@ -118,6 +125,10 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     integrator: bpy.props.EnumProperty(
         name="Solver", items=INTEGRATOR_ITEMS, default=DEFAULTS.integrator.name,
         description="How the slopes are joined into heights (the integrator)",
+    )
+    albedo_method: bpy.props.EnumProperty(
+        name="Paint", items=PAINT_ITEMS, default=DEFAULTS.albedo_method.name,
+        description="Whether the object has one colour or is painted (the albedo read from the image)",
     )
     fit_shading: bpy.props.BoolProperty(
         name="Fit to image", default=DEFAULTS.fit_shading,

@@ -34,6 +34,7 @@ class Job:
 
     name: str
     image: np.ndarray
+    colour: Optional[np.ndarray]  # (H, W, 3) linear RGB of a colour image: paint told from shading
     mask: np.ndarray
     light: Optional[np.ndarray]  # None = estimate from the image
     light_origin: str  # how the finish report names the light: "estimated light", "light of Sun 'Sun'"
@@ -57,7 +58,8 @@ class Job:
 
     def run(self) -> None:
         try:
-            self.result = api.reconstruct(self.image, self.light, self.mask, self.albedo,
+            image = self.image if self.colour is None else self.colour
+            self.result = api.reconstruct(image, self.light, self.mask, self.albedo,
                                           progress=self.progress, **self.options)
         except BaseException as error:  # handed to the main thread, which reports it
             self.error = error
@@ -179,7 +181,7 @@ def prepare_job(context, filepath: str = "") -> Job:
 
 
 def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
-    image, mask, factor = image_pixels(source, settings.max_resolution)
+    image, mask, factor, colour = image_pixels(source, settings.max_resolution)
     if not mask.any():
         raise InputError(f"Image '{source.name}' is transparent everywhere: its alpha leaves no pixel to reconstruct")
     if not image[mask].max() > DARK_LIMIT:
@@ -202,10 +204,12 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
         mask = np.ones_like(mask)  # a tiling surface covers the whole image
     options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,
                    integrator=settings.integrator, fit_shading=settings.fit_shading, seamless=seamless,
+                   albedo_method=settings.albedo_method,
                    threads=preferences.threads if preferences else 0)
     return Job(
         name=Path(source.name).stem or source.name,
         image=image,
+        colour=colour,
         mask=mask,
         light=light,
         light_origin=light_origin,
@@ -297,6 +301,7 @@ def finish_job(operator, context, job: Job) -> set[str]:
             depth_scale=limited_depth_scale(result.depth, result.mask, out["width"], out["depth_scale"],
                                             out["max_height"]),
             density=step, displace=out["displace"], normal_map=out["normal_map"], height_map=out["height_map"],
+            albedo=result.albedo_map if result.albedo_colour is None else result.albedo_colour,
         )
     except MeshError as error:
         discard_job(job)

@@ -29,6 +29,13 @@ def _float_image(name: str, rgba: np.ndarray) -> bpy.types.Image:
     return image
 
 
+def albedo_image(name: str, albedo: np.ndarray, mask: np.ndarray) -> bpy.types.Image:
+    """The de-lit colour, (H, W, 3) linear RGB or (H, W) grey albedo: the image's colour without its
+    shading and shadows, a float image (alpha = mask) for the material's Base Color."""
+    rgb = albedo if albedo.ndim == 3 else np.repeat(albedo[..., None], 3, axis=2)
+    return _float_image(name, np.dstack([rgb, mask.astype(np.float32)]))
+
+
 def normal_map_image(name: str, normals: np.ndarray, mask: np.ndarray) -> bpy.types.Image:
     """The normals as a tangent-space normal map of the result's UVs (imaging.normal_colors), alpha = mask.
 
@@ -152,6 +159,7 @@ def result_object(
     displace: bool,
     normal_map: bool,
     height_map: bool = False,
+    albedo: np.ndarray | None = None,
 ) -> bpy.types.Object:
     """Links a new object showing depth (H, W) pixel units to the active collection, at the 3-D
     cursor, and selects it.
@@ -162,6 +170,8 @@ def result_object(
     ``displace``: a flat grid carrying a Displace modifier and a height image instead of real heights.
     ``normal_map``, ``height_map``: also a packed tangent-space normal map / height image, "<name>
     normals" / "<name> height", wired into the material (the displaced grid's height image is reused).
+    ``albedo``: the de-lit colour (H, W, 3) or grey albedo (H, W), packed as "<name> albedo" and the
+    material's Base Color in place of ``source_image``.
     Raises MeshError (see :func:`depth_mesh`) before creating anything.
     """
     unit = width / depth.shape[1]
@@ -182,6 +192,8 @@ def result_object(
     if displace:
         _displace(obj, height)
     normal_image = normal_map_image(f"{name} normals", normals, mask) if normal_map else None
+    if albedo is not None:
+        source_image = albedo_image(f"{name} albedo", albedo, mask)
     if source_image is not None or normal_image is not None or height_map:
         mesh.materials.append(_result_material(f"{name} shading", source_image, normal_image,
                                                height if height_map else None))

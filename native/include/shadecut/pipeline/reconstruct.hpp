@@ -97,9 +97,9 @@ struct ReconstructOptions {
   /// retinex: ReflectanceParams' chroma_edge, intensity_edge (<= 0 off), rim (objects) and highlight
   /// (<= 0 none), tuned (docs/parameters.md).
   double retinex_chroma_edge = 0.02;
-  double retinex_intensity_edge = 0.1;
-  int retinex_rim = 4;
-  double retinex_highlight = 1.0;
+  double retinex_intensity_edge = 0.2;
+  int retinex_rim = 0;
+  double retinex_highlight = 0.0;
   /// Pixels brighter than this times the albedo, which no Lambertian surface of that albedo shows
   /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never
   /// (the default, tuned: docs/parameters.md).

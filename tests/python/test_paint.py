@@ -1,0 +1,183 @@
+"""Painted objects (issue 28): colour through the API, the CLI and files; the paint separated from the
+shading (albedo_method retinex) on painted renders the tuning never saw, and on DiLiGenT's photographs.
+
+The painted test set uses paint seeds below 100 (the tuning's start at 100), lights and proportions of
+its own, so nothing here was tuned on.
+"""
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import shadecut
+from shadecut import synthetic
+
+REPO = Path(__file__).resolve().parents[2]
+CLI = REPO / "build" / "native" / "shadecut"
+DILIGENT = REPO.parent / "shared" / "data" / "diligent"
+NOISE = (0.01, 0.003)  # the sensor noise of the tuning's renders: sigma = a sqrt(I) + b
+
+
+def noisy(image: np.ndarray, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return np.clip(image + rng.normal(size=image.shape) * (NOISE[0] * np.sqrt(np.maximum(image, 0)) + NOISE[1]),
+                   0.0, 1.0).astype(np.float32)
+
+
+def test_colour_is_accepted_and_its_luminance_gives_the_shape():
+    scene = synthetic.sphere((0.4, 0.3, 1.0), 64)
+    colour = np.dstack([scene.image * 0.9, scene.image * 0.6, scene.image * 0.3]).astype(np.float32)
+    luminance = (colour @ np.array([0.2126, 0.7152, 0.0722])).astype(np.float32)
+    from_colour = shadecut.reconstruct(colour, scene.light, scene.mask, albedo_method="top_fit")
+    from_grey = shadecut.reconstruct(luminance, scene.light, scene.mask, albedo_method="top_fit")
+    np.testing.assert_allclose(from_colour.normals, from_grey.normals, atol=1e-6)
+    assert from_colour.albedo_colour.shape == (64, 64, 3) and from_grey.albedo_colour is None
+    assert from_colour.albedo_map.shape == (64, 64)
+    # The de-lit colour keeps the paint's colour: the ratio of its channels is the image's.
+    inside = scene.mask & (scene.image > 0.1)
+    ratios = from_colour.albedo_colour[inside] / from_colour.albedo_colour[inside][:, 1:2]
+    np.testing.assert_allclose(ratios.mean(axis=0), [1.5, 1.0, 0.5], rtol=1e-3)
+
+
+def test_a_uniform_albedo_map_without_retinex():
+    scene = synthetic.sphere((0.4, 0.3, 1.0), 48)
+    result = shadecut.reconstruct(scene.image, scene.light, scene.mask, albedo_method="top_fit")
+    assert np.allclose(result.albedo_map[scene.mask], result.albedo) and not result.albedo_map[~scene.mask].any()
+
+
+def painted_test_set() -> list:
+    """(painted noisy colour image, the same render with albedo 1 and noise, true albedo, scene)."""
+    scenes = [synthetic.sphere((-0.4, 0.6, 1.0), 128, radius_fraction=0.42),
+              synthetic.torus((0.6, 0.4, 1.0), 128, major=0.32, minor=0.13),
+              synthetic.vase((-0.6, 0.3, 1.0), 128),
+              synthetic.bumps((0.7, 0.2, 1.0), 128)]
+    cases = []
+    for index, scene in enumerate(scenes):
+        for seed, kind in enumerate(synthetic.PAINTS):
+            colour, albedo = synthetic.painted(scene, kind, 10 * index + seed)
+            plain = np.repeat(scene.image[..., None], 3, axis=2)
+            cases.append((noisy(colour, 10 * index + seed), noisy(plain, 50 + 10 * index + seed), albedo, scene))
+    return cases
+
+
+@pytest.fixture(scope="module")
+def painted():
+    return painted_test_set()
+
+
+def test_retinex_reads_painted_objects_nearly_as_well_as_plain_ones(painted):
+    retinex, plain, today = [], [], []
+    for image, uniform, _, scene in painted:
+        retinex.append(scene.mean_error(shadecut.reconstruct(image, scene.light, scene.mask, albedo_method="retinex").normals))
+        plain.append(scene.mean_error(shadecut.reconstruct(uniform, scene.light, scene.mask).normals))
+        today.append(scene.mean_error(shadecut.reconstruct(image, scene.light, scene.mask, albedo_method="top_fit").normals))
+    print(f"painted test set, graphcut: retinex {np.mean(retinex):.2f} deg, one albedo {np.mean(today):.2f}, "
+          f"the same renders unpainted {np.mean(plain):.2f}")
+    assert np.mean(retinex) <= 1.3 * np.mean(plain) + 2.0
+    assert np.mean(retinex) < np.mean(today)
+
+
+@pytest.mark.xfail(strict=True, reason="issue 28 asks a log-correlation >= 0.9; measured 0.835 (min 0.40, a torus "
+                   "whose text paint lies mostly in shadow): edges blurred by noise leave part of each paint step "
+                   "to the shading")
+def test_the_albedo_map_follows_the_paint(painted):
+    correlations = []
+    for image, _, albedo, scene in painted:
+        result = shadecut.reconstruct(image, scene.light, scene.mask, albedo_method="retinex")
+        lit = scene.mask & (scene.image > 0.05)  # in shadow the paint cannot be seen
+        truth = albedo @ np.array([0.2126, 0.7152, 0.0722])
+        correlations.append(np.corrcoef(np.log(result.albedo_map[lit]), np.log(truth[lit]))[0, 1])
+    print(f"log-correlation of the albedo map with the paint: mean {np.mean(correlations):.3f}, "
+          f"min {np.min(correlations):.3f}")
+    assert np.mean(correlations) >= 0.9
+
+
+def test_load_image_keeps_the_colour_and_save_image_writes_it(tmp_path):
+    rng = np.random.default_rng(3)
+    colour = rng.uniform(0.05, 1.0, (12, 16, 3)).astype(np.float32)
+    for name in ("colour.exr", "colour.png"):
+        shadecut.save_image(tmp_path / name, colour)
+        loaded = shadecut.load_image(tmp_path / name)
+        np.testing.assert_allclose(loaded.colour, colour, atol=2e-4 if name.endswith("png") else 0)
+        np.testing.assert_allclose(loaded.image, colour @ np.array([0.2126, 0.7152, 0.0722]), atol=2e-4)
+    shadecut.save_image(tmp_path / "grey.png", colour[..., 0])
+    assert shadecut.load_image(tmp_path / "grey.png").colour is None
+
+
+def test_the_cli_reconstructs_a_colour_photo_and_writes_its_albedo(tmp_path):
+    scene = synthetic.sphere((0.4, 0.3, 1.0), 64)
+    colour, _ = synthetic.painted(scene, "patches", 5)
+    shadecut.save_image(tmp_path / "painted.exr", colour, scene.mask)
+    subprocess.run([str(CLI), str(tmp_path / "painted.exr"), "--light", "0.4,0.3,1", "--albedo-method", "retinex",
+                    "--out", str(tmp_path / "out"), "--quiet"], check=True, capture_output=True)
+    albedo = shadecut.load_image(tmp_path / "out" / "albedo.exr")
+    assert albedo.colour is not None and albedo.colour.shape == (64, 64, 3)
+    direct = shadecut.reconstruct(colour, (0.4, 0.3, 1.0), scene.mask, albedo_method="retinex")
+    np.testing.assert_allclose(albedo.colour[scene.mask], direct.albedo_colour[scene.mask], rtol=1e-5, atol=1e-6)
+
+
+def diligent_photos(name: str, every: int = 1):
+    """(colour photographs / light intensity (H, W, 3), calibrated lights, mask, true normals) of one
+    DiLiGenT object, cropped to the mask; skipped where the data is absent."""
+    from shadecut import diligent
+
+    folder = DILIGENT / f"{name}PNG"
+    if not folder.is_dir():
+        pytest.skip(f"DiLiGenT is not at {DILIGENT} (expects {name}PNG/ there in the benchmark's layout)")
+    layout = diligent.read_layout(folder)
+    mask = shadecut.load_image(folder / "mask.png").image > 0.5
+    normals = diligent.read_normals(folder / "Normal_gt.mat", mask.shape)
+    rows, cols = np.nonzero(mask)
+    crop = np.s_[rows.min() - 8:rows.max() + 9, cols.min() - 8:cols.max() + 9]
+    photos = []
+    for photo in layout["present"][::every]:
+        index = layout["names"].index(photo)
+        rgb = shadecut.load_image(folder / photo, color_space="linear").colour / layout["intensities"][index]
+        photos.append((rgb[crop].astype(np.float32), layout["lights"][index]))
+    return photos, mask[crop], normals[crop]
+
+
+def diligent_errors(name: str, **options) -> tuple[float, float]:
+    """graphcut's mean angular error over the object's photographs (colour, calibrated light) and the
+    flat plane's, on the mask eroded by 2 pixels as every evaluation measures."""
+    photos, mask, normals = diligent_photos(name)
+    inner = shadecut.erode_mask(mask, 2)
+    flat = np.zeros_like(normals)
+    flat[..., 2] = 1.0
+    errors = [shadecut.angular_error(shadecut.reconstruct(rgb, light, mask, **options).normals, normals, inner)
+              for rgb, light in photos]
+    return float(np.mean(errors)), shadecut.angular_error(flat, normals, inner)
+
+
+@pytest.fixture(scope="module")
+def reading():
+    """The reading figure's errors with retinex and with one albedo, and the flat plane's."""
+    retinex, flat = diligent_errors("reading", albedo_method="retinex")
+    one_albedo, _ = diligent_errors("reading", albedo_method="top_fit")
+    print(f"reading, graphcut, calibrated light: retinex {retinex:.2f} deg, one albedo {one_albedo:.2f}, "
+          f"flat plane {flat:.2f}")
+    return retinex, one_albedo, flat
+
+
+def test_retinex_reads_the_printed_reading_figure_better_than_one_albedo(reading):
+    retinex, one_albedo, _ = reading
+    assert retinex < one_albedo - 5.0
+
+
+@pytest.mark.xfail(strict=True, reason="issue 28 asks the reading below the flat plane (40.57 deg); measured 40.78 "
+                   "with retinex (48.90 with one albedo): its glossy glaze's highlights and the dark robe's shadows "
+                   "leave steps no edge test reads")
+def test_retinex_brings_the_printed_reading_figure_below_the_flat_plane(reading):
+    retinex, _, flat = reading
+    assert retinex < flat
+
+
+@pytest.mark.xfail(strict=True, reason="issue 28 asks <= 22 deg; measured (every 3rd photo) 34.20 with retinex and "
+                   "27.91 with one albedo; even the albedo read from the true normals and all 19 photographs "
+                   "gives 21.00: the grey paint lines on the white glaze have no colour to tell them by")
+def test_the_painted_cat_within_22_degrees_with_retinex():
+    error, _ = diligent_errors("cat", albedo_method="retinex")
+    print(f"cat, graphcut with retinex, calibrated light: {error:.2f} deg")
+    assert error <= 22.0
