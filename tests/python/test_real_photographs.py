@@ -114,10 +114,13 @@ def test_near_frontal_photographs_come_back_right_side_out(name, given, tmp_path
         assert error < flipped and error < plane
 
 
-def light_errors(name: str, folder: Path, method=None) -> np.ndarray:
-    """Degrees between the estimated and the calibrated light over the object's photographs."""
-    return np.array([np.degrees(np.arccos(np.clip(shadecut.estimate_light(s.image, s.mask, method)[0] @ s.light, -1, 1)))
-                     for s in imported(name, folder)])
+def light_errors(name: str, folder: Path, method=None) -> tuple[np.ndarray, np.ndarray]:
+    """Degrees between the estimated and the calibrated light over the object's photographs, and the
+    calibrated light's slant (degrees) of each."""
+    samples = imported(name, folder)
+    off = [np.degrees(np.arccos(np.clip(shadecut.estimate_light(s.image, s.mask, method)[0] @ s.light, -1, 1)))
+           for s in samples]
+    return np.array(off), np.array([np.degrees(np.arccos(s.light[2])) for s in samples])
 
 
 CAT_LIGHT = ("Measured over the 19 photographs: the cat's light is off by a median of 14.2 deg with "
@@ -129,10 +132,12 @@ READING_LIGHT = ("Measured over the 19 photographs: the reading figure's light i
 
 
 @pytest.mark.parametrize("name, bound", [
+    pytest.param("ballPNG", 6.0),  # the ball's median is within the issue's bound for the cat already
     pytest.param("catPNG", 6.0, marks=pytest.mark.xfail(strict=True, raises=AssertionError, reason=CAT_LIGHT)),
     pytest.param("readingPNG", 12.0, marks=pytest.mark.xfail(strict=True, raises=AssertionError, reason=READING_LIGHT)),
 ])
 def test_the_light_median(name, bound, tmp_path):
     errors = {method: light_errors(name, tmp_path / method, method) for method in ("zheng_chellappa", "contour")}
-    print(f"{name} light, median off: " + ", ".join(f"{m} {np.median(e):.1f}" for m, e in errors.items()))
-    assert np.median(errors["zheng_chellappa"]) <= bound
+    print(f"{name} light off, median (largest at slant >= 15 deg): " + ", ".join(
+        f"{m} {np.median(e):.1f} ({e[slant >= 15].max():.1f})" for m, (e, slant) in errors.items()))
+    assert np.median(errors["zheng_chellappa"][0]) <= bound
