@@ -38,7 +38,9 @@ the same procedure; --albedo tunes only the albedo estimate; --band-radius only 
 coarse_to_fine_radius, at 256 and 512 pixels unless --sizes says otherwise; --retinex only the
 paint separation, at 128 pixels unless --sizes says otherwise; --viscosity-weight only
 graphcut's viscosity_weight, every other option at its default, by the same score; --fit-smoothness
-only graphcut's fit_smoothness, with fit_shading on, by the same score).
+only graphcut's fit_smoothness, with fit_shading on, by the same score; --light-method only the light
+estimator used for objects without a light, and the contour estimator's ring, by graphcut's score with
+the light estimated, the training surfaces rendered under their own light and one of slant 5 degrees).
 """
 
 from __future__ import annotations
@@ -216,6 +218,67 @@ def tune_albedo(surfaces: dict) -> None:
     print(f"  chosen highlight_threshold: {min(by_threshold)[1]}")
 
 
+CONTOUR_RINGS = (0.0, 0.01, 0.02, 0.04, 0.08)
+NEAR_FRONTAL_SLANT = 5.0  # degrees
+
+
+def near_frontal_light(light, slant_degrees: float = NEAR_FRONTAL_SLANT) -> np.ndarray:
+    """A light of this slant toward ``light``'s tilt: the light estimators' training covers the
+    lights near the viewer, where an estimate decides the orientation, as well as the surfaces' own."""
+    tilt = np.arctan2(light[1], light[0])
+    slant = np.radians(slant_degrees)
+    return np.array([np.sin(slant) * np.cos(tilt), np.sin(slant) * np.sin(tilt), np.cos(slant)])
+
+
+def tune_light_method(surfaces: dict) -> None:
+    """The object light estimators scored by graphcut's mean angular error with the light estimated
+    (light=None, every other option at its default), over the training surfaces under their own light
+    and a near-frontal one; the contour estimator once per ring (its depth inside the outline, a share
+    of the object's size). The angle between the estimated and the true light is printed beside."""
+    from shadecut import _core
+
+    renders = {size: [(shadecut.render(scene.normals, light, scene.albedo, scene.mask), scene, light)
+                      for scene in scenes.values() for light in (scene.light, near_frontal_light(scene.light))]
+               for size, scenes in surfaces.items()}
+
+    def off(estimated, light) -> float:
+        light = np.asarray(light, float) / np.linalg.norm(light)
+        return float(np.degrees(np.arccos(np.clip(np.dot(estimated, light), -1.0, 1.0))))
+
+    def score(estimate) -> tuple[float, float, dict]:
+        errors, offs = {}, []
+        for size, items in renders.items():
+            errors[size] = []
+            for image, scene, light in items:
+                estimated, albedo = estimate(image, scene)
+                result = shadecut.reconstruct(image, estimated, scene.mask, albedo)
+                errors[size].append(scene.mean_error(result.normals))
+                offs.append(off(result.light, light))
+        return float(np.mean(list(errors.values()))), float(np.median(offs)), errors
+
+    def line(error: float, median_off: float, errors: dict) -> str:
+        return (f"mean error {error:.3f} deg, light off by {median_off:.2f} deg (median) ("
+                + "; ".join(f"{size} px {np.mean(e):.2f} [{', '.join(f'{v:.2f}' for v in e)}]"
+                            for size, e in errors.items()) + ")")
+
+    print(f"surfaces (each under its own light, then slant {NEAR_FRONTAL_SLANT:g} deg toward it): "
+          f"{', '.join(next(iter(surfaces.values())))}")
+    scored = []
+    for method in ("zheng_chellappa", "lee_rosenfeld"):
+        result = score(lambda image, scene, method=method: shadecut.estimate_light(image, scene.mask, method))
+        print(f"  {method}: {line(*result)}", flush=True)
+        scored.append((result[0], method))
+    for ring in CONTOUR_RINGS:
+        def contour(image, scene, ring=ring):
+            light, albedo, _ = _core.estimate_contour_light(
+                image, scene.mask, shadecut.estimate_albedo(image, scene.mask), ring)
+            return np.asarray(light), albedo
+        result = score(contour)
+        print(f"  contour, ring {ring:g}: {line(*result)}", flush=True)
+        scored.append((result[0], f"contour, ring {ring:g}"))
+    print(f"  chosen: {min(scored)[1]}")
+
+
 RETINEX_EDGES = [(chroma, intensity) for chroma in (0.01, 0.02, 0.04, 0.08) for intensity in (0.0, 0.05, 0.1, 0.2)]
 RETINEX_RIMS = (0, 2, 4, 8)
 RETINEX_HIGHLIGHTS = (0.0, 1.0, 1.2, 1.5)
@@ -279,8 +342,13 @@ def main() -> int:
     parser.add_argument("--band-radius", action="store_true", help="choose only graphcut's coarse_to_fine_radius")
     parser.add_argument("--fit-smoothness", action="store_true", help="tune only graphcut's fit_smoothness (fit_shading)")
     parser.add_argument("--viscosity-weight", action="store_true", help="tune only graphcut's viscosity_weight")
+    parser.add_argument("--light-method", action="store_true",
+                        help="choose only the object light estimator (and the contour estimator's ring)")
     parser.add_argument("--retinex", action="store_true", help="tune only the paint separation (albedo_method retinex)")
     args = parser.parse_args()
+    if args.light_method:
+        tune_light_method({size: training_surfaces(size) for size in args.sizes})
+        return 0
     if args.retinex:
         tune_retinex({size: training_surfaces(size) for size in (args.sizes if "--sizes" in sys.argv else [128])})
         return 0

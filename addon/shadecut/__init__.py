@@ -25,6 +25,7 @@ from .compatibility import core_problem
 _CORE_PROBLEM = core_problem()
 if _CORE_PROBLEM is None or "bpy" not in sys.modules:
     from .api import (
+        AMBIGUOUS_RESIDUAL_RATIO,
         LIGHT_METHODS,
         METHODS,
         MAX_THREADS,
@@ -47,6 +48,7 @@ if _CORE_PROBLEM is None or "bpy" not in sys.modules:
         mask_components,
         estimate_albedo,
         estimate_light,
+        flip,
         height_field_mesh,
         fold_back_facing,
         integrate,
@@ -88,6 +90,7 @@ def unregister() -> None:
     blender.unregister()
 
 __all__ = [
+    "AMBIGUOUS_RESIDUAL_RATIO",
     "LIGHT_METHODS",
     "METHODS",
     "MAX_THREADS",
@@ -110,6 +113,7 @@ __all__ = [
     "mask_components",
     "estimate_albedo",
     "estimate_light",
+    "flip",
     "height_field_mesh",
     "fold_back_facing",
     "integrate",

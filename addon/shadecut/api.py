@@ -165,6 +165,29 @@ def fold_back_facing(normals, mask=None) -> tuple[np.ndarray, int]:
     return folded, int(count)
 
 
+AMBIGUOUS_RESIDUAL_RATIO: float = _core.AMBIGUOUS_RESIDUAL_RATIO
+"""``stats.orientation_ambiguous`` is set when the result's inversion renders less than this many
+times as far from the image (mean squared residual) as the result itself."""
+
+
+def flip(depth, normals, mask=None) -> tuple[np.ndarray, np.ndarray]:
+    """The surface turned inside out: the other answer an image lit from near the viewer allows.
+
+    Args:
+        depth: (H, W) pixel units, larger = closer.
+        normals: (H, W, 3) camera-frame unit normals.
+        mask: (H, W) bool, the surface's pixels; None = every pixel.
+
+    Returns:
+        copies (depth, normals): depth z -> -z with each 4-connected component of the mask shifted
+        so that its minimum is 0 again (the gauge of every reconstructed depth; outside the mask it is
+        left as it is), normals (nx, ny, nz) -> (-nx, -ny, nz). Flipping twice gives the surface back.
+        ``flip(result.depth, result.normals, result.mask)`` inverts a :func:`reconstruct` result, the
+        thing to do when ``result.stats.orientation_ambiguous`` says the image could not choose.
+    """
+    return _core.flip_surface(_real(depth), _real(normals), _mask(mask))
+
+
 def angular_error_map(n1, n2, mask=None) -> np.ndarray:
     """Per-pixel angle between two normal maps in degrees, NaN outside the mask."""
     return _core.angular_error_map(_real(n1), _real(n2), _mask(mask))

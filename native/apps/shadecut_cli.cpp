@@ -4,6 +4,7 @@
 #include <shadecut/io/atomic_files.hpp>
 #include <shadecut/io/image_io.hpp>
 #include <shadecut/integrate/integrate.hpp>
+#include <shadecut/pipeline/flip_surface.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 
 #include <csignal>
@@ -81,6 +82,9 @@ options:
   --fit-shading        graphcut: after integration, fit the depth to the image: more accurate,
                        4-10 s more per image (default )" << (defaults.fit_shading ? "on" : "off") << R"()
   --fit-smoothness S   how smooth that fit's correction of the depth is (default )" << defaults.fit_smoothness << R"()
+  --flip               write the surface inverted (depth z -> -z, normals (-nx, -ny, nz)): the
+                       other answer when the light is near the viewer and the output says the
+                       orientation is ambiguous
   --threads N          threads, 0 = all cores (default )" << defaults.threads << R"()
   --quiet              no progress
 )";
@@ -240,13 +244,22 @@ void write_outputs(const std::filesystem::path& out, const shadecut::Reconstruct
 
 }  // namespace
 
+// "N times", the ratio of two residuals, for the orientation line.
+std::string ratio_text(double inverted, double kept) {
+  if (!(kept > 0.0)) return inverted > 0.0 ? "infinitely" : "as";
+  std::ostringstream text;
+  text.precision(3);
+  text << inverted / kept << " times";
+  return text.str();
+}
+
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   std::string image_path, out_dir = "shadecut_out", color_space = "auto";
   std::optional<Eigen::Vector3d> light;
   std::optional<double> albedo;
   std::int64_t max_pixels = shadecut::kDefaultMaxPixels;
-  bool quiet = false;
+  bool quiet = false, flip = false;
   shadecut::ReconstructOptions options;
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
@@ -300,6 +313,8 @@ int main(int argc, char** argv) {
         options.viscosity_weight = parse_number(arg, value());
       } else if (arg == "--fit-shading") {
         options.fit_shading = true;
+      } else if (arg == "--flip") {
+        flip = true;
       } else if (arg == "--fit-smoothness") {
         options.fit_smoothness = parse_number(arg, value());
       } else if (!arg.empty() && arg[0] == '-') {
@@ -325,9 +340,10 @@ int main(int argc, char** argv) {
       return interrupted == 0;
     };
     const bool colour = input.colour.channel[0].size() > 0;
-    const shadecut::Reconstruction result =
+    shadecut::Reconstruction result =
         colour ? shadecut::reconstruct(input.colour, light, &input.mask, albedo, options)
                : shadecut::reconstruct(input.intensity, light, &input.mask, albedo, options);
+    if (flip) shadecut::flip_surface(result.depth, result.normals, result.mask);
 
     const std::filesystem::path out(out_dir);
     const std::vector<std::filesystem::path> made = missing_folders(out);
@@ -344,6 +360,12 @@ int main(int argc, char** argv) {
               << "\nmethod " << shadecut::to_string(options.method) << ", albedo " << result.albedo << ", "
               << result.stats.cycles << " cycles, " << result.stats.moves << " moves, "
               << result.stats.seconds.at("total") << " s\n"
+              << "orientation " << (flip ? "flipped; " : "")
+              << (result.stats.orientation_ambiguous
+                      ? "ambiguous: its inversion explains the image about as well (the outline, or a relief's rule, chose); --flip gives it"
+                      : "read from the image: its inversion renders " +
+                            ratio_text(result.stats.inverted_residual, result.stats.orientation_residual) + " as far from it")
+              << "\n"
               << "wrote " << output_names() << " to " << out.string() << "\n";
     return 0;
   } catch (const Interrupted& e) {

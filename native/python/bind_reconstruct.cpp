@@ -179,6 +179,9 @@ void bind_reconstruct(py::module_& m) {
       .def_readonly("cycles", &ReconstructStats::cycles)
       .def_readonly("iterations", &ReconstructStats::iterations, "cycles, brooks_horn / tsai_shah sweeps, or upwind rounds")
       .def_readonly("light_estimated", &ReconstructStats::light_estimated)
+      .def_readonly("light_uncertainty", &ReconstructStats::light_uncertainty,
+                    "degrees: how far the estimated light may be off (light_method contour: its fit's misfit); NaN when "
+                    "the light was given or its estimator does not know it")
       .def_readonly("moves", &ReconstructStats::moves)
       .def_readonly("accepted_moves", &ReconstructStats::accepted_moves)
       .def_readonly("levels", &ReconstructStats::levels, "resolutions solved (coarse to fine)")
@@ -193,7 +196,18 @@ void bind_reconstruct(py::module_& m) {
       .def_readonly("paper_residual", &ReconstructStats::paper_residual,
                     "viscosity_weight: mean squared brightness residual of the paper's labelling's depth")
       .def_readonly("pulled_residual", &ReconstructStats::pulled_residual, "the same for the labelling pulled toward upwind's")
-      .def_readonly("pulled_kept", &ReconstructStats::pulled_kept, "whether the pulled labelling was kept");
+      .def_readonly("pulled_kept", &ReconstructStats::pulled_kept, "whether the pulled labelling was kept")
+      .def_readonly("orientation_energy", &ReconstructStats::orientation_energy,
+                    "graphcut, graphcut_two: the energy of the coarsest level's labelling (0 for the other methods)")
+      .def_readonly("inverted_energy", &ReconstructStats::inverted_energy,
+                    "the same for its inversion (every label turned by pi)")
+      .def_readonly("orientation_residual", &ReconstructStats::orientation_residual,
+                    "mean squared brightness residual of the returned depth")
+      .def_readonly("inverted_residual", &ReconstructStats::inverted_residual,
+                    "the same for its inversion (every normal turned by pi about the light, integrated)")
+      .def_readonly("orientation_ambiguous", &ReconstructStats::orientation_ambiguous,
+                    "whether the image explains the inversion nearly as well (inverted_residual < "
+                    "AMBIGUOUS_RESIDUAL_RATIO x orientation_residual): the priors chose the orientation");
 
   // The arrays are views of the result's own buffers, kept alive by it: no copy.
   py::class_<Reconstruction>(m, "Reconstruction", "The result of reconstruct().")
@@ -220,6 +234,8 @@ void bind_reconstruct(py::module_& m) {
         return py::array_t<double>(3, r.light.data());
       }, "(3,) unit vector toward the light used, camera frame")
       .def_readonly("stats", &Reconstruction::stats);
+
+  m.attr("AMBIGUOUS_RESIDUAL_RATIO") = kAmbiguousResidualRatio;
 
   m.def(
       "reconstruct",

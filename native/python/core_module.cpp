@@ -4,6 +4,7 @@
 #include "arrays.hpp"
 #include "bind_reconstruct.hpp"
 #include "python_errors.hpp"
+#include "estimate/estimate_contour_light.hpp"
 
 #include <shadecut/support/angular_error.hpp>
 #include <shadecut/support/downsample.hpp>
@@ -14,6 +15,7 @@
 #include <shadecut/support/light.hpp>
 #include <shadecut/support/intensity.hpp>
 #include <shadecut/support/mask_components.hpp>
+#include <shadecut/pipeline/flip_surface.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/render.hpp>
 
@@ -58,6 +60,16 @@ PYBIND11_MODULE(_core, m) {
     return py::make_tuple(std::vector<double>{estimate.light.x(), estimate.light.y(), estimate.light.z()}, estimate.albedo);
   });
 
+  // Private: scripts/tune_parameters.py --light-method chooses the contour estimator's ring with it.
+  m.def("estimate_contour_light", [](const FloatArray& image, const std::optional<BoolArray>& mask, double albedo,
+                                     double ring) {
+    const ImageF img = to_image(image, "image");
+    const shadecut::LightEstimate estimate =
+        shadecut::detail::estimate_contour_light(img, mask_or_all(mask, img.rows(), img.cols()), albedo, ring);
+    return py::make_tuple(std::vector<double>{estimate.light.x(), estimate.light.y(), estimate.light.z()}, estimate.albedo,
+                          estimate.uncertainty);
+  });
+
   m.def("estimate_albedo", [](const FloatArray& image, const std::optional<BoolArray>& mask, const std::string& method,
                               std::optional<std::tuple<double, double, double>> window) {
     const ImageF img = to_image(image, "image");
@@ -94,6 +106,13 @@ PYBIND11_MODULE(_core, m) {
     NormalMap n = to_normals(normals);
     const int folded = shadecut::fold_back_facing(n, mask_or_all(mask, n.rows, n.cols));
     return py::make_tuple(from_normals(n), folded);
+  });
+
+  m.def("flip_surface", [](const FloatArray& depth, const FloatArray& normals, const std::optional<BoolArray>& mask) {
+    ImageF z = to_image(depth, "depth map");
+    NormalMap n = to_normals(normals);
+    shadecut::flip_surface(z, n, mask_or_all(mask, z.rows(), z.cols()));
+    return py::make_tuple(from_image(z), from_normals(n));
   });
 
   m.def("angular_error_map", [](const FloatArray& a, const FloatArray& b, const std::optional<BoolArray>& mask) {

@@ -146,3 +146,23 @@ def test_arguments_are_read_whole_and_numbers_printed_short(tmp_path):
     assert bright.returncode == 2 and "1e+300" in bright.stderr and len(bright.stderr) < 400, bright.stderr
     # The message starts a line of its own, not the end of the progress line before it.
     assert any(line.startswith("shadecut: ") for line in bright.stderr.split("\n")), bright.stderr
+
+
+def test_flip_writes_the_other_orientation_and_the_report_says_when_it_is_ambiguous(tmp_path):
+    """A ball lit from the camera: the report says the image cannot choose; --flip writes
+    shadecut.flip's inversion of the same result."""
+    ball = synthetic.sphere((0.0, 0.0, 1.0), size=64)
+    shadecut.save_image(tmp_path / "ball.exr", ball.image, ball.mask)
+    loaded = shadecut.load_image(tmp_path / "ball.exr")
+    expected = shadecut.reconstruct(loaded.image, (0.0, 0.0, 1.0), loaded.mask, 1.0)
+    flipped_depth, _ = shadecut.flip(expected.depth, expected.normals, expected.mask)
+    for flags, depth in (((), expected.depth), (("--flip",), flipped_depth)):
+        out = tmp_path / ("flipped" if flags else "kept")
+        done = run(tmp_path / "ball.exr", "--light", "0,0,1", "--albedo", 1, "--out", out, "--quiet", *flags)
+        assert done.returncode == 0, done.stderr
+        assert "orientation " + ("flipped; " if flags else "") + "ambiguous" in done.stdout
+        np.testing.assert_allclose(shadecut.load_image(out / "depth.exr").image[loaded.mask], depth[loaded.mask], atol=1e-4)
+    lit_aside = synthetic.sphere((1.0, 0.0, 1.0), size=64)
+    shadecut.save_image(tmp_path / "aside.exr", lit_aside.image, lit_aside.mask)
+    oblique = run(tmp_path / "aside.exr", "--light", "1,0,1", "--albedo", 1, "--out", tmp_path / "oblique", "--quiet")
+    assert "orientation read from the image" in oblique.stdout

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import shadecut
-from shadecut import dataset
+from shadecut import dataset, diligent
 
 DILIGENT = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "diligent"
 
@@ -79,3 +79,65 @@ def test_the_ball_with_the_estimated_light_nearly_as_good_as_calibrated(ball):
         calibrated = shadecut.angular_error(shadecut.reconstruct(s.image, s.light, s.mask).normals, s.normals, inner)
         estimated = shadecut.angular_error(shadecut.reconstruct(s.image, None, s.mask).normals, s.normals, inner)
         assert estimated <= 1.3 * calibrated + 2.0, s.light
+
+
+# Issue 27: right side out on real photographs. Every photograph here is used at its full
+# resolution (612 x 512): the two near-frontal ones take about a second each.
+
+def near_frontal(name: str, folder: Path, slant_degrees: float = 10.0) -> list:
+    """The object's photographs whose calibrated light is within ``slant_degrees`` of the viewer."""
+    source = DILIGENT / name
+    if not source.is_dir():
+        pytest.skip(f"DiLiGenT is not at {DILIGENT} (expects {name}/ there in the benchmark's layout)")
+    layout = diligent.read_layout(source)
+    chosen = [image for image, light in zip(layout["names"], layout["lights"])
+              if image in layout["present"] and np.degrees(np.arccos(light[2] / np.linalg.norm(light))) <= slant_degrees]
+    entries = dataset.import_diligent(source, folder, images=chosen)
+    return [dataset.load_sample(folder / entry["folder"]) for entry in entries]
+
+
+@pytest.mark.parametrize("given", [True, False], ids=["calibrated light", "light estimated"])
+@pytest.mark.parametrize("name", ["ballPNG", "catPNG"])
+def test_near_frontal_photographs_come_back_right_side_out(name, given, tmp_path):
+    samples = near_frontal(name, tmp_path)
+    assert samples  # 052, slant 4.4 degrees
+    flat = np.zeros_like(samples[0].normals)
+    flat[..., 2] = 1.0
+    inner = shadecut.erode_mask(samples[0].mask, 2)
+    for s in samples:
+        result = shadecut.reconstruct(s.image, s.light if given else None, s.mask)
+        error = shadecut.angular_error(result.normals, s.normals, inner)
+        flipped = shadecut.angular_error(result.normals * np.array([-1, -1, 1], np.float32), s.normals, inner)
+        plane = shadecut.angular_error(flat, s.normals, inner)
+        print(f"{name} {s.id}: {error:.2f} deg (inverted {flipped:.2f}, flat plane {plane:.2f}), "
+              f"light {np.round(result.light, 3)}, ambiguous {result.stats.orientation_ambiguous}")
+        assert error < flipped and error < plane
+
+
+def light_errors(name: str, folder: Path, method=None) -> tuple[np.ndarray, np.ndarray]:
+    """Degrees between the estimated and the calibrated light over the object's photographs, and the
+    calibrated light's slant (degrees) of each."""
+    samples = imported(name, folder)
+    off = [np.degrees(np.arccos(np.clip(shadecut.estimate_light(s.image, s.mask, method)[0] @ s.light, -1, 1)))
+           for s in samples]
+    return np.array(off), np.array([np.degrees(np.arccos(s.light[2])) for s in samples])
+
+
+CAT_LIGHT = ("Measured over the 19 photographs: the cat's light is off by a median of 14.2 deg with "
+             "zheng_chellappa (the default) and 15.1 with contour; the paint's albedo varies and neither "
+             "estimator models a varying albedo; the issue asks 6")
+READING_LIGHT = ("Measured over the 19 photographs: the reading figure's light is off by a median of 40.4 deg "
+                 "with zheng_chellappa (the default) and 19.4 with contour; its albedo varies more than the "
+                 "cat's; the issue asks 12")
+
+
+@pytest.mark.parametrize("name, bound", [
+    pytest.param("ballPNG", 6.0),  # the ball's median is within the issue's bound for the cat already
+    pytest.param("catPNG", 6.0, marks=pytest.mark.xfail(strict=True, raises=AssertionError, reason=CAT_LIGHT)),
+    pytest.param("readingPNG", 12.0, marks=pytest.mark.xfail(strict=True, raises=AssertionError, reason=READING_LIGHT)),
+])
+def test_the_light_median(name, bound, tmp_path):
+    errors = {method: light_errors(name, tmp_path / method, method) for method in ("zheng_chellappa", "contour")}
+    print(f"{name} light off, median (largest at slant >= 15 deg): " + ", ".join(
+        f"{m} {np.median(e):.1f} ({e[slant >= 15].max():.1f})" for m, (e, slant) in errors.items()))
+    assert np.median(errors["zheng_chellappa"][0]) <= bound

@@ -1,7 +1,7 @@
 """The Blender side of ShadeCut: operators, panels and helpers that need ``bpy``.
 
 Nothing outside this subpackage imports it, so ``import shadecut`` keeps working without Blender.
-The modules: one per operator (``reconstruct_operator``, ``render_operator``), the reconstruction's job
+The modules: one per operator (``reconstruct_operator``, ``render_operator``, ``flip_operator``), the reconstruction's job
 (``reconstruct_job``: checks, worker, result) and its input (``image_input``), their settings on
 the scene (``properties``), the sidebar (``panels``, with its ``light_preview``), the add-on's
 ``preferences``, and the helpers the operators use (``frames``, ``lambertian``, ``mesh``,
@@ -11,6 +11,7 @@ the scene (``properties``), the sidebar (``panels``, with its ``light_preview``)
 import bpy
 
 from . import light_preview
+from .flip_operator import SHADECUT_OT_flip
 from .panels import (SHADECUT_PT_advanced_image, SHADECUT_PT_advanced_view3d, SHADECUT_PT_reconstruct_image,
                      SHADECUT_PT_reconstruct_view3d, SHADECUT_PT_render_view3d)
 from .preferences import ShadeCutPreferences
@@ -26,6 +27,7 @@ CLASSES = (
     ShadeCutRenderSettings,
     SHADECUT_OT_reconstruct,
     SHADECUT_OT_render_lambertian,
+    SHADECUT_OT_flip,
     SHADECUT_PT_reconstruct_view3d,
     SHADECUT_PT_reconstruct_image,
     SHADECUT_PT_advanced_view3d,

@@ -7,6 +7,7 @@ import textwrap
 import bpy
 
 from . import lambertian, light_preview
+from .flip_operator import SHADECUT_OT_flip
 from .reconstruct_operator import SHADECUT_OT_reconstruct
 from .render_operator import SHADECUT_OT_render_lambertian
 
@@ -56,6 +57,7 @@ def draw_reconstruct_settings(layout, settings) -> None:
     row.operator(SHADECUT_OT_reconstruct.bl_idname, icon="MOD_DISPLACE")
     browse = row.operator(SHADECUT_OT_reconstruct.bl_idname, text="", icon="FILEBROWSER")
     browse.use_file_browser = True
+    layout.operator(SHADECUT_OT_flip.bl_idname, icon="MOD_MIRROR")
 
 
 def draw_advanced_settings(layout, settings) -> None:

@@ -14,6 +14,7 @@ import bpy
 import numpy as np
 
 from .. import api
+from .flip_operator import RESULT_PROPERTY, report_orientation
 from .frames import FrameError, light_in_camera_frame
 from .image_input import InputError, image_pixels, image_to_reconstruct
 from .preferences import addon_preferences
@@ -257,6 +258,7 @@ def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
                               f"material '{material.name}' of '{obj.name}': {job.options['method']} in "
                               f"{time.perf_counter() - job.started:.1f} s, {job.light_origin} ({light}), "
                               f"albedo {result.albedo:.3f}{job.shrunk}")
+    report_orientation(operator, result)
     return {"FINISHED"}
 
 
@@ -310,5 +312,7 @@ def finish_job(operator, context, job: Job) -> set[str]:
     operator.report({"INFO"}, f"'{obj.name}': {source}{job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
                               f"{job.light_origin} ({light}), albedo {result.albedo:.3f}, "
                               f"{len(obj.data.vertices):,} vertices (density {step}){job.shrunk}")
+    obj[RESULT_PROPERTY] = True
+    report_orientation(operator, result)
     return {"FINISHED"}
 

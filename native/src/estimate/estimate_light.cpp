@@ -5,6 +5,7 @@
 #include <shadecut/support/validate.hpp>
 
 #include "support/enum_names.hpp"
+#include "estimate/estimate_contour_light.hpp"
 #include "estimate/estimate_relief_light.hpp"
 #include "support/masked_gradient.hpp"
 
@@ -23,7 +24,7 @@ double shadowed_mean_square(double s) { return std::pow(1.0 + std::cos(s), 2) / 
 }  // namespace
 
 const std::vector<std::string>& light_method_names() {
-  static const std::vector<std::string> names{"lee_rosenfeld", "zheng_chellappa", "relief"};
+  static const std::vector<std::string> names{"lee_rosenfeld", "zheng_chellappa", "relief", "contour"};
   return names;
 }
 
@@ -39,6 +40,8 @@ LightEstimate estimate_light(const ImageF& image_in, const Mask& mask, LightMeth
   if (image_in.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
   if (ceiling) check_albedo(*ceiling);
   if (method == LightMethod::Relief) return detail::estimate_relief_light(image_in, mask, ceiling);
+  if (method == LightMethod::Contour)
+    return detail::estimate_contour_light(image_in, mask, ceiling ? *ceiling : estimate_albedo(image_in, mask));
   // Highlights and saturated spots would pull the light toward them: above the albedo no Lambertian
   // surface of it shows, so the image is read clipped there.
   const ImageF image = image_in.min(float(ceiling ? *ceiling : estimate_albedo(image_in, mask)));

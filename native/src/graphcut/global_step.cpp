@@ -10,7 +10,10 @@
 #include "support/stopwatch.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <tuple>
+#include <utility>
 
 namespace shadecut {
 
@@ -100,6 +103,26 @@ double integrated_residual(NormalMap normals, const ImageF& image, const Mask& m
   return mean_brightness_residual(surface.depth, image, mask, mask && !unreliable, light.direction, albedo);
 }
 
+// The energy of a labelling and of its inversion (each label turned by pi, or the allowed label nearest
+// that) under `params` without dead-end elimination and without a reference:
+// GlobalStepResult::orientation_energy and inverted_energy.
+std::pair<double, double> orientation_energies(const LocalShape& local, const LightFrame& light, const Mask& mask,
+                                               TiltEnergyParams params, const std::vector<int>& labelling) {
+  params.prune = false;
+  params.reference = nullptr;
+  params.reference_weight = 0.0;
+  params.band_centre = nullptr;
+  params.band_frozen = nullptr;
+  const TiltEnergy judge(local, light, mask, params);
+  std::vector<int> inverted = labelling;
+  for (std::size_t p = 0; p < inverted.size(); ++p) {
+    if (!mask.data()[p]) continue;
+    const int turned = judge.nearest_allowed_label(int(p), judge.label_tilt(labelling[p]) + M_PI);
+    if (turned >= 0) inverted[p] = turned;
+  }
+  return {judge.energy(labelling), judge.energy(inverted)};
+}
+
 // Solves one level (after the coarser ones, when there are any) into `result`, reporting progress in
 // [begin, end] of the whole step.
 void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
@@ -123,6 +146,8 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
       result.paper_residual = coarse.paper_residual;
       result.pulled_residual = coarse.pulled_residual;
       result.pulled_kept = coarse.pulled_kept;
+      result.orientation_energy = coarse.orientation_energy;
+      result.inverted_energy = coarse.inverted_energy;
       progress = progress.range(kCoarseShare, 1.0);
     }
   }
@@ -192,6 +217,13 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
       result.expansion = std::move(pulled_expansion);
       result.allowed_label_fraction = double(pulled_energy.allowed_count()) / (double(mask.count()) * energy.labels());
     }
+  }
+  if (centre.empty()) {
+    TiltEnergyParams judged = params.energy;
+    judged.data_weight *= scale;
+    judged.undefined_weight *= scale;
+    std::tie(result.orientation_energy, result.inverted_energy) =
+        orientation_energies(local, light, mask, judged, labelling);
   }
   result.expansion.moves += coarse_moves;
   result.expansion.accepted_moves += coarse_accepted;

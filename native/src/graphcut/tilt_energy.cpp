@@ -25,7 +25,8 @@ constexpr float kDominanceSlack = 1e-5f;
 // Which connected parts of the mask are outlined by a silhouette (the surface turning away, normals
 // pointing out) rather than a rim (a bowl's edge, normals pointing in). At a silhouette the lit side
 // of the outline is the one facing the light, at a rim the one facing away: the brightness cos(s_p)
-// of the edge pixels, correlated with outward . S_xy, says which. Empty when the term is off.
+// of the edge pixels, correlated with outward . S_xy, says which, once the light is far enough from
+// the viewer for that correlation to be the light's (kRimSlant). Empty when the term is off.
 struct Outline {
   MaskComponents components;
   std::vector<char> silhouette;  // per component
@@ -35,7 +36,7 @@ Outline read_outline(const LocalShape& local, const LightFrame& light, const Mas
   Outline outline;
   if (!(contour_weight > 0.0)) return outline;
   outline.components = mask_components(mask);
-  std::vector<double> vote(std::size_t(outline.components.count), 0.0);
+  std::vector<double> vote(std::size_t(outline.components.count), 0.0), edge(vote.size(), 0.0);
   const Eigen::Vector2d light_across = light.direction.head<2>();
   for (int r = 0; r < mask.rows(); ++r) {
     for (int c = 0; c < mask.cols(); ++c) {
@@ -43,10 +44,14 @@ Outline read_outline(const LocalShape& local, const LightFrame& light, const Mas
       const Eigen::Vector2d outward = detail::contour_outward(mask, r, c);
       if (outward.isZero()) continue;
       const double brightness = std::cos(double(local.slant(r, c)));
-      vote[std::size_t(outline.components.labels(r, c))] += brightness * outward.dot(light_across);
+      const std::size_t component = std::size_t(outline.components.labels(r, c));
+      vote[component] += brightness * outward.dot(light_across);
+      edge[component] += 1.0;
     }
   }
-  for (double v : vote) outline.silhouette.push_back(v > 0.0);
+  const double rim_vote = -0.25 * std::pow(std::sin(kRimSlant), 2);
+  for (std::size_t i = 0; i < vote.size(); ++i)
+    outline.silhouette.push_back(!(edge[i] > 0.0 && vote[i] / edge[i] < rim_vote));
   return outline;
 }
 
@@ -188,7 +193,7 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
   const detail::LabelCostModel model(*this, local, light, mask, params);
   const int threads = params.threads > 0 ? params.threads : detail::default_thread_count();
   build_windows(model, params, threads);
-  build_data_costs(model, threads);
+  build_data_costs(model, params.prune, threads);
 }
 
 void TiltEnergy::build_pairwise_terms(const LocalShape& local) {
@@ -239,7 +244,7 @@ void TiltEnergy::build_windows(const detail::LabelCostModel& model, const TiltEn
   for (int p = 0; p < n; ++p) window_begin_[std::size_t(p) + 1] += window_begin_[std::size_t(p)];
 }
 
-void TiltEnergy::build_data_costs(const detail::LabelCostModel& model, int threads) {
+void TiltEnergy::build_data_costs(const detail::LabelCostModel& model, bool prune, int threads) {
   const int n = rows_ * cols_, k_count = labels_;
   convex_tilt_.assign(std::size_t(n), std::numeric_limits<float>::quiet_NaN());
   data_cost_.assign(planes_ ? std::size_t(n) * k_count : std::size_t(window_begin_.back()), kProhibited);
@@ -259,7 +264,7 @@ void TiltEnergy::build_data_costs(const detail::LabelCostModel& model, int threa
     }
     // Eq. (10) can leave no label when both candidates face away after discretization.
     if (std::none_of(cost, cost + width, [](float v) { return std::isfinite(v); })) cost[most_frontal] = 0.0f;
-    eliminate_dead_ends(p, first, width, cost);
+    if (prune) eliminate_dead_ends(p, first, width, cost);
     for (int j = 0; j < width; ++j) data_cost_[std::size_t(slot(p, label_at(j)))] = cost[j];
   });
 }

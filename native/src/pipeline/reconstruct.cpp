@@ -78,6 +78,7 @@ void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& cou
   for (const auto& [stage, spent] : paper_stats.seconds) seconds[stage] += spent;
   if (paper_residual <= pulled_residual) {
     paper_stats.light_estimated = stats.light_estimated;
+    paper_stats.light_uncertainty = stats.light_uncertainty;
     stats = std::move(paper_stats);
     kept = std::move(paper);
   }
@@ -87,6 +88,32 @@ void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& cou
   stats.pulled_kept = pulled_residual < paper_residual;
 }
 
+// The orientation statistics of the result (ReconstructStats::orientation_residual, inverted_residual,
+// orientation_ambiguous): its depth rendered, and the surface of its normals turned by pi about the
+// light (n -> 2 (n . S) S - n, each normal's other one of the same brightness), made a surface as the
+// result was (filled, integrated, flattened for a relief) and rendered, over the reliable pixels.
+void judge_orientation(const ImageF& image, const Mask& unreliable, const LightFrame& frame, const ReconstructOptions& options,
+                       Reconstruction& result) {
+  const Mask& mask = result.mask;
+  const Eigen::Vector3f light = frame.direction.cast<float>();
+  NormalMap turned = result.normals;
+  for (Eigen::Index i = 0; i < turned.size(); ++i) {
+    if (!mask.data()[i]) continue;
+    const Eigen::Vector3f n = turned.xyz.row(i).transpose();
+    turned.xyz.row(i) = (2.0f * n.dot(light) * light - n).transpose();
+  }
+  Surface inverted = surface_from_normals(std::move(turned), mask, unreliable, edge_is_outline(options), options.integrator,
+                                          options.seamless, options.max_slope);
+  if (!options.seamless && options.scene == SceneKind::Relief) flatten_relief(inverted.depth, inverted.normals, mask);
+  const Mask counted = mask && !unreliable;
+  auto residual = [&](const ImageF& depth) {
+    return mean_brightness_residual(depth, image, mask, counted, frame.direction, result.albedo);
+  };
+  ReconstructStats& stats = result.stats;
+  stats.orientation_residual = residual(result.depth);
+  stats.inverted_residual = residual(inverted.depth);
+  stats.orientation_ambiguous = stats.inverted_residual < kAmbiguousResidualRatio * stats.orientation_residual;
+}
 
 // The light frame and albedo used: given, or estimated from the image (an object's albedo with its
 // estimated light; otherwise estimate_albedo's, or a relief's median). `brightest` is the largest
@@ -107,6 +134,7 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, float brightes
     const LightEstimate estimate = estimate_light(image, mask, method, ceiling);
     result.stats.seconds["light"] = stopwatch.seconds();
     result.stats.light_estimated = true;
+    result.stats.light_uncertainty = estimate.uncertainty * 180.0 / M_PI;
     direction = estimate.light;
     // The estimators' albedo assumes a sphere's normals; a relief's comes from its median.
     if (!albedo && options.scene == SceneKind::Object) albedo = estimate.albedo;
@@ -218,6 +246,8 @@ NormalMap graph_cut_normals(const ImageF& image, const Mask& mask, const LightFr
   stats.paper_residual = solved.paper_residual;
   stats.pulled_residual = solved.pulled_residual;
   stats.pulled_kept = solved.pulled_kept;
+  stats.orientation_energy = solved.orientation_energy;
+  stats.inverted_energy = solved.inverted_energy;
   return std::move(solved.normals);
 }
 
@@ -374,6 +404,7 @@ Reconstruction detail::reconstruct_shading(const ImageF& image, const std::optio
     progress.report(1.0, "integration");
   }
   if (!options.seamless && options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);
+  judge_orientation(image, unreliable, frame, options, result);
   result.stats.seconds["total"] = total.seconds();
   return result;
 }

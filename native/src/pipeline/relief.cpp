@@ -1,7 +1,7 @@
 #include <shadecut/pipeline/relief.hpp>
 
 #include <shadecut/support/errors.hpp>
-#include <shadecut/support/mask_components.hpp>
+#include <shadecut/support/rebase_depth.hpp>
 
 #include <Eigen/Dense>
 
@@ -41,22 +41,17 @@ void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {
   if (mask.count() < 3) return;
   // z = a x + b y + c; removing it changes the gradients (p, q) by (-a, -b) everywhere.
   const Eigen::Vector3d plane = normal_matrix.ldlt().solve(rhs);
-  const MaskComponents components = mask_components(mask);
-  std::vector<float> minimum(std::size_t(components.count), std::numeric_limits<float>::infinity());
   for (Eigen::Index r = 0; r < depth.rows(); ++r) {
     for (Eigen::Index c = 0; c < depth.cols(); ++c) {
       if (!mask(r, c)) continue;
       depth(r, c) -= float(plane.x() * double(c) - plane.y() * double(r) + plane.z());
-      float& lowest = minimum[std::size_t(components.labels(r, c))];
-      lowest = std::min(lowest, depth(r, c));
       auto n = normals.xyz.row(r * depth.cols() + c);
       if (!(n.z() > 0.0f)) continue;
       const double p = -n.x() / n.z() - plane.x(), q = -n.y() / n.z() - plane.y();
       n = Eigen::Vector3f(float(-p), float(-q), 1.0f).normalized().transpose();
     }
   }
-  for (Eigen::Index i = 0; i < depth.size(); ++i)
-    if (mask.data()[i]) depth.data()[i] -= minimum[std::size_t(components.labels.data()[i])];
+  rebase_depth(depth, mask);
 }
 
 }  // namespace shadecut

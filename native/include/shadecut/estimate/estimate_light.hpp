@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +29,13 @@ enum class LightMethod {
   /// from one side from its inverse lit from the other), slant from S_z = median / brightest
   /// (99.5th percentile) intensity; albedo = median / S_z. Details in src/estimate_relief_light.hpp.
   Relief,
+  /// "contour": for an object seen whole against a background, whose outline is an occluding
+  /// contour (its normals there point outward in the image plane): the brightness along a ring just
+  /// inside the outline, a line in the outline's outward direction, gives the light's image-plane
+  /// direction (its slope) and, with the albedo, its slant. Its uncertainty comes with it
+  /// (LightEstimate::uncertainty). Without an outline (a relief filling the frame) it falls back to
+  /// zheng_chellappa. Details in src/estimate/estimate_contour_light.hpp.
+  Contour,
 };
 
 /// Every estimator's name, in the order of the enum.
@@ -46,6 +54,9 @@ struct LightEstimate {
   double albedo = 0.0;    ///< > 0
   double slant = 0.0;     ///< radians, the angle between the light and the viewing direction
   double tilt = 0.0;      ///< radians, atan2(S_y, S_x); 0 when the image has no gradient at all
+  /// radians: how far the light may be off, where the estimator can say (contour: its fit's misfit
+  /// as an angle of the light); NaN where it cannot.
+  double uncertainty = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Estimates light and albedo from the masked pixels of a Lambertian image.
@@ -64,7 +75,8 @@ struct LightEstimate {
 /// @param[in] mask    H x W pixels to use.
 /// @param[in] method  which estimator.
 /// @param[in] ceiling the albedo, or std::nullopt for estimate_albedo's (top_fit); relief: the albedo,
-///                    or std::nullopt for its brightest pixels', and the image is not clipped.
+///                    or std::nullopt for its brightest pixels', and the image is not clipped;
+///                    contour: the albedo it uses and returns (top_fit's when std::nullopt).
 /// @throws InvalidArgument for bad input or an image dark everywhere in the mask.
 LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightMethod method,
                              std::optional<double> ceiling = std::nullopt);

@@ -62,6 +62,13 @@ struct GlobalStepResult {
   double paper_residual = 0.0;
   double pulled_residual = 0.0;
   bool pulled_kept = false;
+  /// The coarsest level's labelling judged by the energy (the paper's, with the outline's and the
+  /// undefined tilts' terms, without dead-end elimination and without the viscosity pull), and its
+  /// inversion judged likewise: every label turned by pi (the other local candidate, the normal turned
+  /// by pi about the light; under a frontal light z -> -z), or the allowed label nearest that. Their
+  /// difference is what the priors and the image say for the orientation chosen.
+  double orientation_energy = 0.0;
+  double inverted_energy = 0.0;
   std::map<std::string, double> seconds;  ///< "local", "energy", "graphcut" (cuts), "upwind", summed over levels
 };
 

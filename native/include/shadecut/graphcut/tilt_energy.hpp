@@ -29,6 +29,19 @@ class LabelCostModel;
 /// The largest number of tilt labels; one degree per label is finer than any image supports.
 constexpr int kMaxLabels = 360;
 
+/// The slant (radians, 20 degrees) of the weakest light under which an outline is read as a rim.
+/// An outline's rim vote is the mean, over its pixels, of brightness / albedo times outward . S_xy:
+/// a silhouette's (horizontal normals pointing out) is +sin^2(slant) / 4, a rim's (pointing in)
+/// -sin^2(slant) / 4, and an object whose edge is not everywhere an occluding contour adds a vote of
+/// its own that grows like sin(slant) (a bust cut off at its base). Under a light near the viewer
+/// the image cannot tell a surface from its inversion, so the outline must not turn on a vote that
+/// small: it reads as a rim only where the vote is below a rim's under this slant,
+/// -sin^2(20 deg) / 4 = -0.029. Then the choice does not change as the light nears the viewer: a
+/// bowl lit from 20 degrees or more keeps its rim; under lights nearer the viewer it is read as a
+/// dome, the outline's choice, and ReconstructStats::orientation_ambiguous says the image could not
+/// tell (docs/method.md, "Occluding contour").
+constexpr double kRimSlant = 20.0 * M_PI / 180.0;
+
 /// The tuned values come from ReconstructOptions (global_step_params, reconstruct.hpp): the weights
 /// and the label count hold none of their own here.
 struct TiltEnergyParams {
@@ -41,9 +54,10 @@ struct TiltEnergyParams {
   /// On the mask's edge, where it is the object's outline (an occluding contour: the surface turns
   /// away there, its normal pointing outward), label theta costs contour_weight (1 - cos d) / 2 more,
   /// d the angle between the outward direction of the edge and the image-plane direction of the
-  /// label's normal: an object seen whole is convex at its outline. Only on the mask's parts whose
-  /// edge reads as a silhouette: brighter where it faces the light (a bowl's rim, brighter where it
-  /// faces away, gets no term). 0 = no such term (reliefs).
+  /// label's normal: an object seen whole is convex at its outline. On every part of the mask
+  /// except those whose edge reads as a rim (kRimSlant: a bowl's rim lit from aside, brighter where
+  /// it faces away from the light, gets no term); under a light near the viewer the edge reads as
+  /// nothing and the term holds: the outline decides what the image cannot. 0 = no such term (reliefs).
   double contour_weight{};
   /// A pull toward given normals (one per pixel of the mask's grid, row-major; the viscosity
   /// solution's, GlobalStepParams::viscosity_weight): label theta costs reference_weight
@@ -51,6 +65,9 @@ struct TiltEnergyParams {
   const NormalMap* reference = nullptr;
   double reference_weight = 0.0;
   DataTerm data_term = DataTerm::Soft;
+  /// Dead-end elimination (see TiltEnergy). Off, every label that faces the viewer (and, for
+  /// TwoCandidates, is a candidate) keeps its cost: for judging labellings a minimum would not use.
+  bool prune = true;
   int threads = 0;             ///< threads for building the tables; 0 = all cores
   /// Coarse to fine: with band >= 0, a masked pixel p with (*band_centre)[p] >= 0 (a label, one per
   /// pixel, row-major) keeps only the labels within `band` label steps of it (circularly), unless none
@@ -136,7 +153,7 @@ class TiltEnergy {
   // The constructor's steps: w_pq and the chords, the band's windows, R_p after dead-end elimination.
   void build_pairwise_terms(const LocalShape& local);
   void build_windows(const detail::LabelCostModel& model, const TiltEnergyParams& params, int threads);
-  void build_data_costs(const detail::LabelCostModel& model, int threads);
+  void build_data_costs(const detail::LabelCostModel& model, bool prune, int threads);
   void eliminate_dead_ends(int pixel, int first, int width, float* cost) const;
 
   int rows_ = 0, cols_ = 0, labels_ = 0;

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -143,6 +144,9 @@ struct ReconstructStats {
   int cycles = 0;
   int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps, upwind rounds; 0 for lee_rosenfeld
   bool light_estimated = false;             ///< whether the light (and, without a given albedo, the albedo) was estimated
+  /// degrees: how far the estimated light may be off (LightEstimate::uncertainty), NaN
+  /// when the light was given or its estimator does not know it
+  double light_uncertainty = std::numeric_limits<double>::quiet_NaN();
   int moves = 0;                            ///< expansion moves, summed over the levels
   int accepted_moves = 0;
   int levels = 0;                           ///< graphcut, graphcut_two: resolutions solved (coarse to fine)
@@ -157,6 +161,22 @@ struct ReconstructStats {
   double paper_residual = 0.0;
   double pulled_residual = 0.0;
   bool pulled_kept = false;
+  /// The orientation: how much the result beats its inversion, every normal turned by pi about the
+  /// light (n -> 2 (n . S) S - n: the other normal of the same brightness, the local step's other
+  /// candidate; under a frontal light (nx, ny, nz) -> (-nx, -ny, nz), flip_surface's inversion).
+  /// graphcut, graphcut_two: the energy of the coarsest level's labelling and of its inversion
+  /// (GlobalStepResult::orientation_energy, inverted_energy); 0 for the other methods.
+  double orientation_energy = 0.0;
+  double inverted_energy = 0.0;
+  /// Every method: the mean squared brightness residual (mean_brightness_residual) of the returned
+  /// depth and of the inversion's (its normals made a surface as the result's were: filled,
+  /// integrated, flattened for a relief), over the mask without shadows and highlights.
+  double orientation_residual = 0.0;
+  double inverted_residual = 0.0;
+  /// inverted_residual < kAmbiguousResidualRatio * orientation_residual: the image explains the
+  /// inversion nearly as well as the result, so the priors (the outline, the relief rule) chose the
+  /// orientation, not the image; flip_surface gives the other one.
+  bool orientation_ambiguous = false;
   /// fit_shading: the brightness residual before and after (FitShadingStats) and the steps taken;
   /// all 0 when it did not run.
   double shading_residual_before = 0.0;
@@ -182,6 +202,12 @@ struct Reconstruction {
 /// scene kind: zheng_chellappa for an object, relief for a relief (whose normals are nothing like
 /// the sphere's the others assume).
 LightMethod light_method_used(const ReconstructOptions& options);
+
+/// A result is ambiguous in its orientation (ReconstructStats::orientation_ambiguous) when its
+/// inversion renders less than this many times as far from the image (mean squared residual) as the
+/// result: under a frontal light both render alike (ratio 1); a 128-px sphere lit from 2, 5 and 10
+/// degrees off the viewer gives 1.4, 5.0 and 21 (docs/method.md, "10. Orientation").
+constexpr double kAmbiguousResidualRatio = 2.0;
 
 /// What reconstruct() hands global_step for the graph-cut methods (graphcut, graphcut_two): the
 /// options' values, method_defaults where they are unset, and the thread count of the reconstruct()
