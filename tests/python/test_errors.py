@@ -1,6 +1,7 @@
 """Bad input raises a clear Python exception, never a crash."""
 
 import os
+import re
 import struct
 import subprocess
 import sys
@@ -275,3 +276,33 @@ def test_a_side_beyond_a_32_bit_count_is_refused_not_wrapped(call):
     """An empty array can have 2^31 rows; the core counts them in int, where they wrapped negative."""
     with pytest.raises(ValueError, match="2147483648 x 0 pixels; a side may have at most 2147483647"):
         call()
+
+
+UNDER_A_MEMORY_CAP = """
+import resource, sys, time
+import numpy as np
+resource.setrlimit(resource.RLIMIT_AS, (int(sys.argv[1]), int(sys.argv[1])))
+import shadecut
+from shadecut import synthetic
+small = synthetic.sphere((1, 0, 1), 64)
+shadecut.reconstruct(small.image, small.light, small.mask)  # fits: runs as usual
+image = np.full((8192, 8192), 0.5, np.float32)
+started = time.monotonic()
+try:
+    shadecut.reconstruct(image, (1, 0, 1))
+except ValueError as error:
+    print(f"{time.monotonic() - started:.3f} {error}")
+"""
+
+
+def test_a_call_too_large_for_the_memory_it_may_use_is_refused_at_once():
+    """8192 x 8192 under a memory cap ran 45 s into an allocation failure; the peak memory is now
+    estimated first (docs/benchmarks.md, "Memory") and the call refused, naming both figures."""
+    cap = 3 * 2**30  # 3 GB of address space: 8192^2 pixels need about 11 GB
+    done = subprocess.run([sys.executable, "-c", UNDER_A_MEMORY_CAP, str(cap)], capture_output=True, text=True,
+                          timeout=120, env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
+    assert done.returncode == 0, done.stderr
+    seconds, message = done.stdout.split(" ", 1)
+    assert float(seconds) < 1.0
+    needed, available = re.search(r"needs about ([\d.]+) GB for 8192 x 8192 pixels, but only ([\d.]+) GB can be", message).groups()
+    assert float(needed) > 10 and float(available) < 3 and "max_pixels" in message

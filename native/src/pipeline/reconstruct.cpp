@@ -12,6 +12,7 @@
 #include <shadecut/integrate/surface_from_normals.hpp>
 #include <shadecut/baselines/tsai_shah.hpp>
 #include <shadecut/baselines/upwind.hpp>
+#include <shadecut/support/memory.hpp>
 #include <shadecut/support/validate.hpp>
 
 #include "pipeline/reconstruct_shading.hpp"
@@ -173,7 +174,24 @@ NormalMap brooks_horn_normals(const ImageF& image, const Mask& mask, const Light
 
 }  // namespace
 
+// A call's peak memory per pixel (docs/benchmarks.md, "Memory"): about 167 bytes with coarse to
+// fine, whatever the method; the exact alpha-expansion keeps every label's cost and flow per pixel too.
+constexpr double kPeakBytesPerPixel = 180.0;
+constexpr double kPeakBytesPerLabelPixel = 20.0;
+
+std::uint64_t detail::estimated_peak_memory(const ReconstructOptions& options, std::int64_t pixels) {
+  const bool graph_cut = options.method == Method::GraphCut || options.method == Method::GraphCutTwo;
+  const bool every_label = graph_cut && options.coarse_to_fine_band < 0;
+  return std::uint64_t(double(pixels) * (kPeakBytesPerPixel + (every_label ? options.labels * kPeakBytesPerLabelPixel : 0.0)));
+}
+
 void detail::check_options(const ReconstructOptions& options, const Mask& mask) {
+  const std::uint64_t needed = estimated_peak_memory(options, std::int64_t(mask.size()));
+  const std::uint64_t available = available_memory();
+  if (needed > available)
+    throw InvalidArgument("shadecut: this call needs about " + memory_text(needed) + " for " + std::to_string(mask.rows()) +
+                          " x " + std::to_string(mask.cols()) + " pixels, but only " + memory_text(available) +
+                          " can be allocated; give a smaller image (max_pixels, or the add-on's Max size)");
   if (options.threads < 0 || options.threads > kMaxThreads)
     throw InvalidArgument("shadecut: threads must be in 0 .. " + std::to_string(kMaxThreads) + " (0 = all cores); got " +
                           std::to_string(options.threads));
