@@ -1,6 +1,8 @@
 #include <shadecut/support/memory.hpp>
 
+#if defined(__unix__) || defined(__APPLE__)
 #include <sys/resource.h>
+#endif
 
 #include <algorithm>
 #include <cstdio>
@@ -55,9 +57,11 @@ std::uint64_t available_memory() {
   const std::string group = cgroup_folder();
   if (!group.empty())
     available = std::min(available, less(file_number(group + "/memory.max"), file_number(group + "/memory.current")));
+#if defined(__unix__) || defined(__APPLE__)
   rlimit address_space{};
   if (getrlimit(RLIMIT_AS, &address_space) == 0 && address_space.rlim_cur != RLIM_INFINITY)
     available = std::min(available, less(std::uint64_t(address_space.rlim_cur), proc_kilobytes("/proc/self/status", "VmSize")));
+#endif
   return available;
 }
 
