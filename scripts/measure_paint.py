@@ -3,7 +3,9 @@ painted test set of tests/python/test_paint.py and on DiLiGenT's colour photogra
 estimated light), beside the flat plane: the figures of docs/results.md#painted-objects-retinex.
 
 Run: PYTHONPATH=addon /usr/bin/python3 scripts/measure_paint.py [DILIGENT_FOLDER]
-(DILIGENT_FOLDER defaults to ../shared/data/diligent; objects absent there are skipped).
+(DILIGENT_FOLDER defaults to ../shared/data/diligent; objects absent there are skipped), or with
+--speed: the paint step's own seconds (stats.seconds["albedo"]) beside the whole call's, median of
+five calls, on the painted bump field at 512 and 1024 pixels (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -51,7 +53,24 @@ def diligent(folder: Path) -> None:
               flush=True)
 
 
+def speed() -> None:
+    from shadecut import synthetic
+
+    print("| size | retinex step, s | whole call with retinex, s | whole call with top_fit, s |\n|---|---|---|---|")
+    for size in (512, 1024):
+        scene = synthetic.bumps((0.7, 0.2, 1.0), size)
+        colour, _ = synthetic.painted(scene, "patches", 1)
+        runs = {method: [shadecut.reconstruct(colour, scene.light, scene.mask, albedo_method=method).stats.seconds
+                         for _ in range(5)] for method in METHODS}
+        step = np.median([seconds["albedo"] for seconds in runs["retinex"]])
+        total = {method: np.median([seconds["total"] for seconds in runs[method]]) for method in METHODS}
+        print(f"| {size} | {step:.3f} | {total['retinex']:.2f} | {total['top_fit']:.2f} |", flush=True)
+
+
 def main() -> int:
+    if "--speed" in sys.argv:
+        speed()
+        return 0
     print("| | one albedo | retinex | unpainted |\n|---|---|---|---|")
     painted_set()
     print("\n| DiLiGenT | calibrated, one albedo | calibrated, retinex | estimated, one albedo | estimated, retinex "
