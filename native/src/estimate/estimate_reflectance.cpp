@@ -1,6 +1,7 @@
 #include <shadecut/estimate/estimate_reflectance.hpp>
 
 #include <shadecut/estimate/estimate_albedo.hpp>
+#include <shadecut/support/angular_error.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/validate.hpp>
 
@@ -72,19 +73,9 @@ Cues read_cues(const ImageF& intensity, const ColourImage* colour, const Mask& m
     const ImageF sum = (smooth[0] + smooth[1] + smooth[2]).max(1e-12f);
     for (int k = 0; k < 3; ++k) cues.chroma[std::size_t(k)] = smooth[std::size_t(k)] / sum;
   }
-  cues.inner = cues.readable;
-  // The rim: masked pixels within `rim` 4-steps of an unmasked one (or of the image's border).
-  Mask near = !mask;
-  for (int step = 0; step < params.rim; ++step) {
-    Mask grown = near;
-    for (Eigen::Index r = 0; r < mask.rows(); ++r)
-      for (Eigen::Index c = 0; c < mask.cols(); ++c)
-        if (!near(r, c) && (r == 0 || c == 0 || r + 1 == mask.rows() || c + 1 == mask.cols() || near(r - 1, c) ||
-                            near(r + 1, c) || near(r, c - 1) || near(r, c + 1)))
-          grown(r, c) = true;
-    near = grown;
-  }
-  if (params.rim > 0) cues.inner = cues.inner && !near;
+  // No edge is read on the rim: the masked pixels within `rim` 4-steps of an unmasked one or of the
+  // image's border.
+  cues.inner = cues.readable && erode_mask(mask, params.rim);
   return cues;
 }
 
