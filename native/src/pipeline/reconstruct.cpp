@@ -422,7 +422,9 @@ Reconstruction detail::reconstruct_shading(const ImageF& image, const std::optio
     progress.report(1.0, "integration");
   }
   if (!options.seamless && options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);
+  const Stopwatch orientation;
   judge_orientation(image, unreliable, frame, options, result);
+  result.stats.seconds["orientation"] = orientation.seconds();
   result.stats.seconds["total"] = total.seconds();
   return result;
 }

@@ -139,7 +139,8 @@ struct ReconstructOptions {
 
 struct ReconstructStats {
   std::map<std::string, double> seconds;    ///< per stage run ("light", "local", "energy", "graphcut",
-                                            ///< "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading") and "total"
+                                            ///< "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading", "orientation": the
+                                            ///< inverted surface judged, judge_orientation) and "total"
   std::vector<double> energy_per_cycle;     ///< initial energy, then after every alpha-expansion cycle
   int cycles = 0;
   int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps, upwind rounds; 0 for lee_rosenfeld
