@@ -6,7 +6,7 @@ set -euo pipefail
 PACKAGES=(
   cmake g++ make pkg-config
   libeigen3-dev libopencv-dev libopenimageio-dev libboost-dev pybind11-dev libsuitesparse-dev
-  python3 python3-dev python3-numpy python3-pytest python3-openimageio python3-matplotlib python3-scipy python3-pyelftools
+  python3 python3-dev python3-numpy python3-pytest python3-openimageio python3-matplotlib python3-scipy python3-pyelftools python3-skimage
   googletest libgtest-dev libbenchmark-dev
   blender xvfb xauth
 )
