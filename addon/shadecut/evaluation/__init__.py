@@ -3,7 +3,7 @@
 Used by ``blender_scripts/eval.py`` (which adds Blender's 3-D renders) and usable on its own; no
 ``bpy`` here, and not part of the add-on's zip (the add-on never imports it). One module per concern:
 
-- :mod:`.metrics`: angular, depth and light errors on the eroded ground-truth mask;
+- :mod:`.metrics`: angular, depth and light errors on the eroded ground-truth mask; a normal map's block grid;
 - :mod:`.inputs`: the checks of what a run is given, and synthetic datasets written to disk;
 - :mod:`.runner`: the methods run on one sample, on a dataset, and the paper's experiment;
 - :mod:`.report`: means, ranking, Markdown tables and the result files;
@@ -16,7 +16,8 @@ the error message. Angles are in degrees, depth in pixel units.
 
 from .figures import save_strip
 from .inputs import EvaluationError, check_methods, prepare_output, read_manifest, write_synthetic_dataset
-from .metrics import ERODE_PIXELS, METRICS, THRESHOLDS, depth_errors, light_error, mask_parts, normal_errors
+from .metrics import (ERODE_PIXELS, GRID_PERIODS, METRICS, THRESHOLDS, depth_errors, grid_step_ratio, light_error,
+                      mask_parts, normal_errors)
 from .real import FLAT, evaluate_object, evaluate_real, find_objects, flat_record, import_objects
 from .report import CSV_COLUMNS, method_table, real_table, shape_table, summarize, write_results
 from .runner import PAPER_LIGHT, Evaluation, SampleResult, evaluate_dataset, evaluate_sample, paper_experiment
@@ -25,6 +26,7 @@ __all__ = [
     "CSV_COLUMNS",
     "ERODE_PIXELS",
     "FLAT",
+    "GRID_PERIODS",
     "METRICS",
     "PAPER_LIGHT",
     "THRESHOLDS",
@@ -33,6 +35,7 @@ __all__ = [
     "SampleResult",
     "check_methods",
     "find_objects",
+    "grid_step_ratio",
     "flat_record",
     "import_objects",
     "depth_errors",

@@ -106,3 +106,55 @@ def light_error(estimated: Sequence[float], truth: Sequence[float]) -> float:
     b = np.asarray(truth, dtype=np.float64)
     # atan2 of |a x b| and a . b stays accurate for small angles, where arccos of the cosine does not.
     return float(np.degrees(np.arctan2(np.linalg.norm(np.cross(a, b)), np.dot(a, b))))
+
+
+GRID_PERIODS = (8, 16, 32, 64)  # pixels: the blocks of coarse to fine at 2, 3, 4 and 5 levels below the image
+
+
+def grid_step_ratio(normals: np.ndarray, mask: np.ndarray | None = None, periods: Sequence[int] = GRID_PERIODS) -> float:
+    """How much a normal map steps on a block grid: 1 for none, 2 when its steps there are twice as large.
+
+    A *step* is the angle between the normals of two 4-neighbours, both in ``mask``. The boundary
+    between columns c - 1 and c, and between rows r - 1 and r, is *on the grid* when c (r) is a
+    positive multiple of any of ``periods`` (pixels, counted from the image's first row and column,
+    where coarse to fine's blocks start). Returns the mean step across the boundaries on the grid
+    divided by the mean step across all the others, rows and columns pooled. No metric of the truth
+    is needed: a surface without blocks scores about 1 whatever its shape, since its steps do not
+    care where the grid is.
+
+    ``normals``: H x W x 3 (any length; zero or non-finite normals count as outside). ``mask``: H x W
+    bool, default every pixel. Raises ValueError when either kind of boundary has no step to measure
+    (an image smaller than the smallest period) or the steps off the grid are all zero (a plane).
+    """
+    normals = np.asarray(normals, dtype=np.float64)
+    if normals.ndim != 3 or normals.shape[2] != 3:
+        raise ValueError(f"normals must be H x W x 3, got {normals.shape}")
+    length = np.linalg.norm(normals, axis=2)
+    inside = np.isfinite(length) & (length > 0)
+    if mask is not None:
+        inside &= np.asarray(mask, dtype=bool)
+    unit = np.where(inside[..., None], normals / np.where(inside, length, 1.0)[..., None], 0.0)
+
+    def steps(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        # atan2 of |a x b| and a . b: accurate for the small angles between neighbours, where arccos is not.
+        return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+
+    def on_grid(count: int) -> np.ndarray:
+        index = np.arange(1, count)  # boundary i lies between i - 1 and i
+        return np.any([index % period == 0 for period in periods], axis=0)
+
+    across_columns = steps(unit[:, :-1], unit[:, 1:])
+    across_rows = steps(unit[:-1], unit[1:])
+    both_columns = inside[:, :-1] & inside[:, 1:]
+    both_rows = inside[:-1] & inside[1:]
+    grid_columns = np.broadcast_to(on_grid(normals.shape[1])[None, :], across_columns.shape)
+    grid_rows = np.broadcast_to(on_grid(normals.shape[0])[:, None], across_rows.shape)
+    on = np.concatenate([across_columns[both_columns & grid_columns], across_rows[both_rows & grid_rows]])
+    off = np.concatenate([across_columns[both_columns & ~grid_columns], across_rows[both_rows & ~grid_rows]])
+    if on.size == 0 or off.size == 0:
+        raise ValueError(f"no steps to compare: the masked image has no boundaries {'on' if on.size == 0 else 'off'} "
+                         f"the grid of periods {tuple(periods)}")
+    off_mean = float(np.mean(off))
+    if off_mean <= 0.0:
+        raise ValueError("the normals do not change off the grid: no step to compare with")
+    return float(np.mean(on)) / off_mean
