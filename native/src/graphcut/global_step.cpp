@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <tuple>
 #include <utility>
 
@@ -80,6 +81,56 @@ std::vector<std::uint8_t> frozen_pixels(const std::vector<int>& centre, const Ma
   return frozen;
 }
 
+// The tilts (light frame, radians; NaN elsewhere) that stand for the coarse label at the fine pixels
+// that keep it (`frozen`): the coarse level's own tilts (those of its normals) interpolated bilinearly
+// between coarse pixel centres, over the coarse neighbours whose label is within one step of the
+// pixel's own coarse label (the smoothly turning part of the labelling, which is where pixels are
+// frozen; a convex/concave jump is never averaged across). Taking the block's label instead made every
+// coarse block a plateau of one tilt, and the normal maps a grid of steps on the blocks' edges (issue
+// 29) wherever no local candidate snaps the label: flat-looking areas, gentle slopes, textures.
+std::vector<float> upsampled_tilts(const GlobalStepResult& coarse, const Mask& coarse_mask, const std::vector<int>& centre,
+                                   const std::vector<std::uint8_t>& frozen, const LightFrame& light, int labels, int rows,
+                                   int cols) {
+  const int coarse_rows = int(coarse_mask.rows()), coarse_cols = int(coarse_mask.cols());
+  // Each coarse pixel's tilt as a unit vector in the light frame; a normal along the light has none,
+  // and takes its label's.
+  std::vector<Eigen::Vector2d> direction(std::size_t(coarse_rows) * coarse_cols, Eigen::Vector2d::Zero());
+  for (std::size_t q = 0; q < direction.size(); ++q) {
+    if (!coarse_mask.data()[q]) continue;
+    const Eigen::Vector3d in_light = light.to_camera.transpose() * coarse.normals.xyz.row(Eigen::Index(q)).transpose().cast<double>();
+    const double length = in_light.head<2>().norm();
+    const double label_tilt = 2.0 * M_PI * coarse.labelling[q] / labels;
+    direction[q] = length > 1e-6 ? Eigen::Vector2d(in_light.head<2>() / length)
+                                 : Eigen::Vector2d(std::cos(label_tilt), std::sin(label_tilt));
+  }
+  std::vector<float> tilts(std::size_t(rows) * cols, std::numeric_limits<float>::quiet_NaN());
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t p = std::size_t(r) * cols + c;
+      if (!frozen[p] || centre[p] < 0) continue;
+      // The fine pixel's centre in coarse pixel coordinates (coarse centres at integers).
+      const double y = 0.5 * r - 0.25, x = 0.5 * c - 0.25;
+      const int r0 = int(std::floor(y)), c0 = int(std::floor(x));
+      const double fy = y - r0, fx = x - c0;
+      Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+      for (int dr = 0; dr <= 1; ++dr) {
+        for (int dc = 0; dc <= 1; ++dc) {
+          const int cr = r0 + dr, cc = c0 + dc;
+          if (cr < 0 || cc < 0 || cr >= coarse_rows || cc >= coarse_cols || !coarse_mask(cr, cc)) continue;
+          const std::size_t q = std::size_t(cr) * coarse_cols + cc;
+          const int steps = std::abs(coarse.labelling[q] - centre[p]);
+          if (std::min(steps, labels - steps) > 1) continue;
+          sum += (dr ? fy : 1.0 - fy) * (dc ? fx : 1.0 - fx) * direction[q];
+        }
+      }
+      // The pixel's own block always counts (weight >= 9/16), so the sum vanishes only when its
+      // neighbours' tilts cancel it, which one label step apart they cannot.
+      if (sum.norm() > 1e-9) tilts[p] = float(std::atan2(sum.y(), sum.x()));
+    }
+  }
+  return tilts;
+}
+
 // The start of a fine level: the allowed label nearest the centre; the convex labelling where there
 // is no centre.
 std::vector<int> start_from_centres(const TiltEnergy& energy, const std::vector<int>& centre) {
@@ -128,15 +179,17 @@ std::pair<double, double> orientation_energies(const LocalShape& local, const Li
 void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
                  const GlobalStepParams& params, MaxFlowSolver& solver, Progress progress, GlobalStepResult& result) {
   std::vector<int> centre;
+  GlobalStepResult coarse;
+  Mask coarse_mask;
   int coarse_moves = 0, coarse_accepted = 0, coarse_repaired = 0, coarse_levels = 0;
   double coarse_seconds = 0.0;
   if (params.band >= 0 && object_size(mask) >= 2.0 * params.coarsest_object_size) {
     // A coarse pixel lies in the mask only when its whole block does.
-    const auto [half_image, half_mask] = downsample(image, mask, 2, 1.0);
+    auto [half_image, half_mask] = downsample(image, mask, 2, 1.0);
     if (half_mask.any()) {
-      GlobalStepResult coarse;
       solve_level(half_image, half_mask, light, albedo, params, solver, progress.range(0.0, kCoarseShare), coarse);
       centre = upsample_labels(coarse.labelling, half_mask, int(image.rows()), int(image.cols()));
+      coarse_mask = std::move(half_mask);
       coarse_moves = coarse.expansion.moves;
       coarse_accepted = coarse.expansion.accepted_moves;
       coarse_repaired = coarse.expansion.repaired_moves;
@@ -165,9 +218,12 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   energy_params.band_centre = centre.empty() ? nullptr : &centre;
   energy_params.band = params.band;
   std::vector<std::uint8_t> frozen;
+  std::vector<float> frozen_tilts;
   if (!centre.empty() && params.band_radius >= 0) {
     frozen = frozen_pixels(centre, mask, params.energy.labels, params.band_radius);
     energy_params.band_frozen = &frozen;
+    frozen_tilts = upsampled_tilts(coarse, coarse_mask, centre, frozen, light, params.energy.labels, int(image.rows()),
+                                   int(image.cols()));
   }
   const TiltEnergy energy(local, light, mask, energy_params);
   result.seconds["energy"] += stage.seconds();
@@ -190,7 +246,8 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   std::vector<int> labelling = label(energy, 0.05, cuts_end, result.expansion);
   result.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * energy.labels());
   result.seconds["graphcut"] += stage.seconds();
-  result.normals = labelling_normals(labelling, energy, local, light, params.refine);
+  result.normals = labelling_normals(labelling, energy, local, light, params.refine,
+                                     frozen_tilts.empty() ? nullptr : &frozen_tilts);
   if (choose) {
     progress.report(cuts_end, "upwind");
     stage.restart();

@@ -342,13 +342,14 @@ std::int64_t TiltEnergy::allowed_count() const {
 }
 
 NormalMap labelling_normals(const std::vector<int>& labelling, const TiltEnergy& energy, const LocalShape& local,
-                            const LightFrame& light, bool refine) {
+                            const LightFrame& light, bool refine, const std::vector<float>* label_tilts) {
   const Mask& mask = energy.mask();
   NormalMap normals(energy.rows(), energy.cols());
   const double step = 2.0 * M_PI / energy.labels();
   for (Eigen::Index i = 0; i < normals.size(); ++i) {
     if (!mask.data()[i]) continue;
     double tilt = energy.label_tilt(labelling[std::size_t(i)]);
+    if (refine && label_tilts && std::isfinite((*label_tilts)[std::size_t(i)])) tilt = (*label_tilts)[std::size_t(i)];
     if (refine && local.tilt_defined.data()[i]) {
       const double concave = local.tilt.data()[i], convex = concave + M_PI;
       const double nearer = angle_distance(tilt, concave) < angle_distance(tilt, convex) ? concave : convex;

@@ -175,7 +175,12 @@ class TiltEnergy {
 /// Camera-frame normals of a labelling. With `refine`, a pixel whose label lies within one label step
 /// of a local candidate takes that candidate's exact tilt (the labels decide convex or concave, the
 /// local step keeps its sub-label precision); otherwise, and without `refine`, the label's tilt.
+///
+/// `label_tilts` (with `refine`; null = none): one light-frame tilt per pixel (radians, row-major,
+/// NaN = none) that stands for the label in place of its own tilt, both in the snapping and where
+/// nothing snaps: coarse to fine gives the pixels that keep their coarse label the coarse level's
+/// tilts interpolated smoothly (global_step), so that its blocks leave no steps in the normals.
 NormalMap labelling_normals(const std::vector<int>& labelling, const TiltEnergy& energy, const LocalShape& local,
-                            const LightFrame& light, bool refine);
+                            const LightFrame& light, bool refine, const std::vector<float>* label_tilts = nullptr);
 
 }  // namespace shadecut
