@@ -39,16 +39,11 @@ std::vector<int> upsample_labels(const std::vector<int>& coarse, const Mask& coa
   return centre;
 }
 
-// The pixels that keep only their coarse label: those farther than `radius` (Chebyshev distance)
-// from every jump of the upsampled labelling, a jump being a pair of 4-neighbours more than one label
-// step apart or a masked pixel next to one without a coarse label. Where the coarse labels vary
-// smoothly the fine level has nothing to decide that the snapping to the local candidates
-// (labelling_normals) does not; where they jump, the convex/concave boundary is only known to a
-// coarse pixel.
-std::vector<std::uint8_t> frozen_pixels(const std::vector<int>& centre, const Mask& mask, int labels, int radius) {
+// The pixels at a jump of the upsampled coarse labelling: both of a pair of 4-neighbours more than one
+// label step apart, and a masked pixel next to one without a coarse label (or without one itself).
+std::vector<std::uint8_t> jump_pixels(const std::vector<int>& centre, const Mask& mask, int labels) {
   const int rows = int(mask.rows()), cols = int(mask.cols());
-  radius = std::min(radius, std::max(rows, cols));  // farther reaches nothing more
-  std::vector<std::uint8_t> near_jump(centre.size(), 0);
+  std::vector<std::uint8_t> at_jump(centre.size(), 0);
   auto jump = [&](std::size_t a, std::size_t b) {
     if (centre[a] < 0 || centre[b] < 0) return centre[a] != centre[b];
     const int steps = std::abs(centre[a] - centre[b]);
@@ -58,11 +53,21 @@ std::vector<std::uint8_t> frozen_pixels(const std::vector<int>& centre, const Ma
     for (int c = 0; c < cols; ++c) {
       const std::size_t a = std::size_t(r) * cols + c;
       if (!mask.data()[a]) continue;
-      if (c + 1 < cols && mask.data()[a + 1] && jump(a, a + 1)) near_jump[a] = near_jump[a + 1] = 1;
-      if (r + 1 < rows && mask.data()[a + cols] && jump(a, a + cols)) near_jump[a] = near_jump[a + cols] = 1;
-      if (centre[a] < 0) near_jump[a] = 1;
+      if (c + 1 < cols && mask.data()[a + 1] && jump(a, a + 1)) at_jump[a] = at_jump[a + 1] = 1;
+      if (r + 1 < rows && mask.data()[a + cols] && jump(a, a + cols)) at_jump[a] = at_jump[a + cols] = 1;
+      if (centre[a] < 0) at_jump[a] = 1;
     }
   }
+  return at_jump;
+}
+
+// The pixels that keep only their coarse label: those farther than `radius` (Chebyshev distance)
+// from every pixel at a jump (jump_pixels). Where the coarse labels vary smoothly the fine level has
+// nothing to decide that the snapping to the local candidates (labelling_normals) and the coarse
+// level's interpolated tilts (upsampled_tilts) do not; where they jump, the convex/concave boundary
+// is only known to a coarse pixel.
+std::vector<std::uint8_t> frozen_pixels(const std::vector<std::uint8_t>& at_jump, int rows, int cols, int radius) {
+  radius = std::min(radius, std::max(rows, cols));  // farther reaches nothing more
   // Dilation by a (2 radius + 1)^2 square, separably: rows, then columns. Along a line, a target
   // is covered when the last jump seen, `radius` cells ahead of it, lies within 2 radius.
   auto dilate_line = [radius](const std::uint8_t* in, std::uint8_t* out, int length, std::size_t stride,
@@ -74,9 +79,9 @@ std::vector<std::uint8_t> frozen_pixels(const std::vector<int>& centre, const Ma
       if (target >= 0 && i - last <= 2 * radius) out[std::size_t(target) * stride] = covered;
     }
   };
-  std::vector<std::uint8_t> across(centre.size(), 0), frozen(centre.size(), 1);
+  std::vector<std::uint8_t> across(at_jump.size(), 0), frozen(at_jump.size(), 1);
   for (int r = 0; r < rows; ++r)
-    dilate_line(&near_jump[std::size_t(r) * cols], &across[std::size_t(r) * cols], cols, 1, 1);
+    dilate_line(&at_jump[std::size_t(r) * cols], &across[std::size_t(r) * cols], cols, 1, 1);
   for (int c = 0; c < cols; ++c) dilate_line(&across[std::size_t(c)], &frozen[std::size_t(c)], rows, std::size_t(cols), 0);
   return frozen;
 }
@@ -215,12 +220,23 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   const double scale = unary_scale(mask);
   energy_params.data_weight *= scale;
   energy_params.undefined_weight *= scale;
-  energy_params.band_centre = centre.empty() ? nullptr : &centre;
+  // The band's centres, but none (every label) at a jump: a band around either side's coarse label
+  // holds no label of the other side, so the boundary could never leave the coarse pixels' edges,
+  // and every convex/concave boundary ended on the coarsest level's grid (issue 29). With every
+  // label there, a level can move it by a pixel, and the levels together anywhere in a coarsest pixel.
+  std::vector<int> band_centre = centre;
+  std::vector<std::uint8_t> at_jump;
+  if (!centre.empty()) {
+    at_jump = jump_pixels(centre, mask, params.energy.labels);
+    for (std::size_t p = 0; p < band_centre.size(); ++p)
+      if (at_jump[p]) band_centre[p] = -1;
+  }
+  energy_params.band_centre = centre.empty() ? nullptr : &band_centre;
   energy_params.band = params.band;
   std::vector<std::uint8_t> frozen;
   std::vector<float> frozen_tilts;
   if (!centre.empty() && params.band_radius >= 0) {
-    frozen = frozen_pixels(centre, mask, params.energy.labels, params.band_radius);
+    frozen = frozen_pixels(at_jump, int(image.rows()), int(image.cols()), params.band_radius);
     energy_params.band_frozen = &frozen;
     frozen_tilts = upsampled_tilts(coarse, coarse_mask, centre, frozen, light, params.energy.labels, int(image.rows()),
                                    int(image.cols()));
