@@ -10,6 +10,7 @@
 #include "support/stopwatch.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -59,6 +60,41 @@ std::vector<std::uint8_t> jump_pixels(const std::vector<int>& centre, const Mask
     }
   }
   return at_jump;
+}
+
+// The windows of the pixels at a jump (at_jump): the shortest circular run of labels holding the
+// pixel's coarse label and its masked 4-neighbours', as (first label, further steps) in the form of
+// TiltEnergyParams::band_centre and band_span; every other pixel keeps its centre and a span of 0.
+std::pair<std::vector<int>, std::vector<std::int16_t>> jump_windows(const std::vector<int>& centre,
+                                                                    const std::vector<std::uint8_t>& at_jump,
+                                                                    const Mask& mask, int labels) {
+  const int rows = int(mask.rows()), cols = int(mask.cols());
+  std::vector<int> first = centre;
+  std::vector<std::int16_t> span(centre.size(), 0);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t p = std::size_t(r) * cols + c;
+      if (!at_jump[p] || centre[p] < 0) continue;
+      std::array<int, 5> held{centre[p]};
+      int count = 1;
+      auto hold = [&](int rr, int cc) {
+        if (rr < 0 || cc < 0 || rr >= rows || cc >= cols || !mask(rr, cc)) return;
+        const int label = centre[std::size_t(rr) * cols + cc];
+        if (label >= 0) held[std::size_t(count++)] = label;
+      };
+      hold(r - 1, c), hold(r + 1, c), hold(r, c - 1), hold(r, c + 1);
+      // The run starting at each held label and reaching every other one upward; the shortest wins.
+      int best_start = centre[p], best_length = labels;
+      for (int i = 0; i < count; ++i) {
+        int length = 0;
+        for (int j = 0; j < count; ++j) length = std::max(length, (held[std::size_t(j)] - held[std::size_t(i)] + labels) % labels);
+        if (length < best_length) best_start = held[std::size_t(i)], best_length = length;
+      }
+      first[p] = best_start;
+      span[p] = std::int16_t(best_length);
+    }
+  }
+  return {std::move(first), std::move(span)};
 }
 
 // The pixels that keep only their coarse label: those farther than `radius` (Chebyshev distance)
@@ -169,6 +205,7 @@ std::pair<double, double> orientation_energies(const LocalShape& local, const Li
   params.reference_weight = 0.0;
   params.band_centre = nullptr;
   params.band_frozen = nullptr;
+  params.band_span = nullptr;
   const TiltEnergy judge(local, light, mask, params);
   std::vector<int> inverted = labelling;
   for (std::size_t p = 0; p < inverted.size(); ++p) {
@@ -220,18 +257,19 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   const double scale = unary_scale(mask);
   energy_params.data_weight *= scale;
   energy_params.undefined_weight *= scale;
-  // The band's centres, but none (every label) at a jump: a band around either side's coarse label
+  // At a jump the band reaches the neighbours' coarse labels: a band around either side's own label
   // holds no label of the other side, so the boundary could never leave the coarse pixels' edges,
-  // and every convex/concave boundary ended on the coarsest level's grid (issue 29). With every
-  // label there, a level can move it by a pixel, and the levels together anywhere in a coarsest pixel.
-  std::vector<int> band_centre = centre;
+  // and every convex/concave boundary ended on the coarsest level's grid (issue 29). Reaching them, a
+  // level can move it by a pixel, and the levels together anywhere in a coarsest pixel.
+  std::vector<int> band_centre;
+  std::vector<std::int16_t> band_span;
   std::vector<std::uint8_t> at_jump;
   if (!centre.empty()) {
     at_jump = jump_pixels(centre, mask, params.energy.labels);
-    for (std::size_t p = 0; p < band_centre.size(); ++p)
-      if (at_jump[p]) band_centre[p] = -1;
+    std::tie(band_centre, band_span) = jump_windows(centre, at_jump, mask, params.energy.labels);
+    energy_params.band_centre = &band_centre;
+    energy_params.band_span = &band_span;
   }
-  energy_params.band_centre = centre.empty() ? nullptr : &band_centre;
   energy_params.band = params.band;
   std::vector<std::uint8_t> frozen;
   std::vector<float> frozen_tilts;

@@ -232,9 +232,10 @@ void TiltEnergy::build_windows(const detail::LabelCostModel& model, const TiltEn
     if (centre >= 0) {
       const detail::LabelCostModel::PixelTerms terms = model.pixel_terms(p);
       const bool frozen = params.band_frozen && (*params.band_frozen)[std::size_t(p)];
+      const int span = params.band_span ? (*params.band_span)[std::size_t(p)] : 0;
       for (int half = frozen ? 0 : params.band; half <= params.band && width == k_count; half += std::max(1, params.band)) {
         const int first = (centre - half + k_count) % k_count;
-        const int band_width = std::min(2 * half + 1, k_count);
+        const int band_width = std::min(2 * half + 1 + span, k_count);
         for (int j = 0; j < band_width && width == k_count; ++j)
           if (std::isfinite(model.label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
       }

@@ -77,6 +77,11 @@ struct TiltEnergyParams {
   /// With a band: pixels where band_frozen[p] != 0 keep only their centre label (a band of 0), or
   /// the band when the centre is not allowed there. Null: the band everywhere.
   const std::vector<std::uint8_t>* band_frozen = nullptr;
+  /// With a band: per pixel (row-major; null = 0 everywhere), how many label steps the window reaches
+  /// beyond the band above its centre: the labels from centre - band to centre + band_span[p] + band.
+  /// Coarse to fine widens the pixels at a jump of the coarse labelling this way to their neighbours'
+  /// labels (global_step).
+  const std::vector<std::int16_t>* band_span = nullptr;
 };
 
 /// E(labels) = sum_p R_p(theta_p) + sum over 4-neighbours (p, q) of
