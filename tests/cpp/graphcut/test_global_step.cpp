@@ -8,6 +8,7 @@
 
 #include <reference_maxflow.hpp>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -207,6 +208,49 @@ TEST(GlobalStep, OnTheTestBumpsTheTruthCostsMoreThanTheLabellingFound) {
   EXPECT_GT(energy.energy(nearest_truth), 1.3 * energy.energy(found.labelling));
   EXPECT_GT(error(from_candidates), 30.0);
   EXPECT_LE(energy.energy(from_candidates), 1.01 * energy.energy(found.labelling));
+}
+
+// The mean angle between 4-neighbours' normals across the rows and columns at multiples of 8 pixels
+// (coarse to fine's blocks from three levels down), over the mean across all the others:
+// shadecut.evaluation.grid_step_ratio with its default periods.
+double grid_step_ratio(const NormalMap& normals, const Mask& mask) {
+  double on = 0.0, off = 0.0;
+  long on_count = 0, off_count = 0;
+  auto add = [&](Eigen::Index a, Eigen::Index b, bool grid) {
+    const Eigen::Vector3d u = normals.xyz.row(a).cast<double>().normalized(), v = normals.xyz.row(b).cast<double>().normalized();
+    const double angle = std::atan2(u.cross(v).norm(), u.dot(v));
+    (grid ? on : off) += angle;
+    ++(grid ? on_count : off_count);
+  };
+  const Eigen::Index rows = mask.rows(), cols = mask.cols();
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    for (Eigen::Index c = 0; c < cols; ++c) {
+      if (!mask(r, c)) continue;
+      if (c + 1 < cols && mask(r, c + 1)) add(r * cols + c, r * cols + c + 1, (c + 1) % 8 == 0);
+      if (r + 1 < rows && mask(r + 1, c)) add(r * cols + c, (r + 1) * cols + c, (r + 1) % 8 == 0);
+    }
+  }
+  return (on / double(on_count)) / (off / double(off_count));
+}
+
+// Issue 29: the normals of coarse to fine (the defaults: four levels at 512 px, three at 256) step no
+// more across the coarse blocks' edges than elsewhere. The pixels that keep their coarse label take
+// the coarse level's tilts interpolated, not the block's label tilt, and a jump's pixels can take
+// either side's label, so that its boundary is not pinned to the coarse pixels' edges. Before, the
+// blocks' edges stepped up to twice as much (measured with this test before: bumps 1.98, sphere 1.44;
+// now 1.07 and 1.07).
+TEST(GlobalStep, CoarseToFineLeavesNoBlockGridInTheNormals) {
+  const Eigen::Vector3d light(1, 0, 1);
+  const LightFrame frame = LightFrame::from_direction(light);
+  const GlobalStepParams params = global_step_params(ReconstructOptions{});
+  const auto solver = make_maxflow_solver();
+  for (const testing::Scene& scene : {testing::bumps_scene(256, light), testing::sphere_scene(256, 0.45, light)}) {
+    const GlobalStepResult result = global_step(scene.image, scene.mask, frame, 1.0, params, *solver);
+    EXPECT_GE(result.levels, 3);
+    const double ratio = grid_step_ratio(result.normals, scene.mask);
+    std::printf("grid step ratio %.3f (truth %.3f)\n", ratio, grid_step_ratio(scene.normals, scene.mask));
+    EXPECT_LE(ratio, 1.1);
+  }
 }
 
 }  // namespace
