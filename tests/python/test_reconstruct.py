@@ -103,7 +103,10 @@ def test_coarse_to_fine_reaches_the_exact_minimum_s_accuracy(scene):
     print(f"{scene} 256 px: exact alpha-expansion {exact_error:.2f} deg; band everywhere {everywhere_error:.2f} deg; "
           f"default (band near the coarse jumps) {fast_error:.2f} deg; energies {energy}")
     assert exact.stats.levels == 1 and fast.stats.levels == 3  # 256 -> 128 -> 64 px
-    assert abs(fast_error - exact_error) <= 0.25
+    # Coarse to fine must not lose the exact minimum's accuracy. It may beat it: the pixels that keep
+    # their coarse label take the coarse level's tilts interpolated, finer than a label step (issue
+    # 29), which puts the default at 0.96 deg on the sphere against the exact run's 1.34.
+    assert fast_error <= exact_error + 0.25
     assert abs(everywhere_error - exact_error) <= 0.25
     # Local minima of the banded moves: with the band everywhere measured 1.8% (sphere) and 0.9%
     # (bumps) above the exact one; with the band only at the coarse jumps 4.3% and 1.0%, the smooth
