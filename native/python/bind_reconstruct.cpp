@@ -130,6 +130,8 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "seamless", &ReconstructOptions::seamless);
   option(options, names, "detail_size", &ReconstructOptions::detail_size);
   option(options, names, "detail_scale_factor", &ReconstructOptions::detail_scale_factor);
+  option(options, names, "paint_line_width", &ReconstructOptions::paint_line_width);
+  option(options, names, "paint_line_contrast", &ReconstructOptions::paint_line_contrast);
   option(options, names, "threads", &ReconstructOptions::threads);
   m.attr("OPTION_NAMES") = py::tuple(py::cast(names));
   m.attr("MIN_LABELS") = kMinLabels;

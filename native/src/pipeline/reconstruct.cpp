@@ -228,6 +228,10 @@ void detail::check_options(const ReconstructOptions& options, const Mask& mask) 
   if (!std::isfinite(options.highlight_threshold))
     throw InvalidArgument("shadecut: highlight_threshold must be finite (<= 0: never); got " +
                           number_text(options.highlight_threshold));
+  if (options.paint_line_width < 0)
+    throw InvalidArgument("shadecut: paint_line_width must be >= 0 pixels (< 2: off); got " + std::to_string(options.paint_line_width));
+  if (!(options.paint_line_contrast > 1.0) || !std::isfinite(options.paint_line_contrast))
+    throw InvalidArgument("shadecut: paint_line_contrast must be finite and > 1; got " + number_text(options.paint_line_contrast));
   if (!std::isfinite(options.detail_size))
     throw InvalidArgument("shadecut: detail_size must be finite (pixels; 0 = read from the image, < 0 = keep every form)");
   if (!(options.detail_scale_factor > 0.0) || !std::isfinite(options.detail_scale_factor))
@@ -412,8 +416,10 @@ Reconstruction detail::reconstruct_shading(const ImageF& image, const std::optio
   result.mask = mask;
   const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
   const detail::ThreadCountScope threads(options.threads);
-  const Mask unreliable =
+  Mask unreliable =
       unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), options.highlight_threshold);
+  if (options.scene == SceneKind::Relief)
+    unreliable = unreliable || bright_lines(image, mask, options.paint_line_width, options.paint_line_contrast);
   // The normals, then their integration, in [begin, end] of the call.
   auto surface_of = [&](const ReconstructOptions& solved, double begin, double split, double end, ReconstructStats& stats) {
     NormalMap normals = solve_normals(image, mask, frame, result.albedo, solved, progress.range(begin, split), stats);

@@ -74,5 +74,30 @@ TEST(ReliefScale, IsTheWavelengthOfAShadingWave) {
   EXPECT_TRUE(std::isinf(relief_scale(ImageF::Constant(16, 16, 0.5f), Mask::Constant(16, 16, true))));
 }
 
+TEST(BrightLines, MarksAThinBrightLineNotABrightFaceOrASlope) {
+  ImageF image = ImageF::Constant(64, 64, 0.3f);
+  image.col(20).setConstant(0.9f);                 // a line of paint, 1 px wide, 3x as bright
+  image.block(40, 40, 20, 20).setConstant(0.9f);   // a bright face wider than the square
+  for (int c = 0; c < 64; ++c) image.block(0, c, 12, 1).setConstant(0.3f + 0.005f * float(c));  // a face brightening gently
+  const Mask mask = Mask::Constant(64, 64, true);
+  const Mask lines = bright_lines(image, mask, 7, 2.0);
+  Mask expected = Mask::Constant(64, 64, false);
+  expected.col(20).tail(52).setConstant(true);
+  EXPECT_TRUE((lines == expected).all()) << lines.count() << " marked";
+  EXPECT_EQ(bright_lines(image, mask, 0, 2.0).count(), 0);   // off
+  EXPECT_EQ(bright_lines(image, mask, 7, 4.0).count(), 0);   // not that much brighter
+  EXPECT_THROW(bright_lines(image, mask, 7, 1.0), InvalidArgument);
+}
+
+TEST(BrightLines, IgnoresWhatLiesOutsideTheMask) {
+  // A bright square in a dark frame: inside the mask it is a face, not a line, although the dark
+  // pixels outside would make its edge look like one.
+  ImageF image = ImageF::Constant(32, 32, 0.05f);
+  image.block(8, 8, 16, 16).setConstant(0.8f);
+  Mask mask = Mask::Constant(32, 32, false);
+  mask.block(8, 8, 16, 16).setConstant(true);
+  EXPECT_EQ(bright_lines(image, mask, 7, 2.0).count(), 0);
+}
+
 }  // namespace
 }  // namespace shadecut

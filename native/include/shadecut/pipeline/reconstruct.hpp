@@ -139,6 +139,11 @@ struct ReconstructOptions {
   /// Reliefs with detail_size 0: the detail size in units of relief_scale. Tuned
   /// (scripts/tune_parameters.py --detail-size, docs/parameters.md).
   double detail_scale_factor = 1.5;
+  /// Reliefs: thin bright lines (bright_lines: narrower than this many pixels, brighter than their
+  /// surroundings by paint_line_contrast) are paint, such as mortar, not slopes: filled from their
+  /// neighbours like shadows. < 2 = off. Tuned (scripts/tune_parameters.py --detail-size).
+  int paint_line_width = 7;
+  double paint_line_contrast = 2.0;
   int threads = 0;                          ///< 0 = all cores
   /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
   /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading". Returning false cancels.

@@ -37,6 +37,19 @@ void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask);
 /// @throws InvalidArgument for an empty mask or a relief dark in most of its pixels.
 double relief_scale(const ImageF& image, const Mask& mask);
 
+/// The pixels of a relief's thin bright lines, which shading does not draw: paint such as a brick
+/// wall's mortar. A pixel is on one when its log-intensity exceeds its grey opening (over squares of
+/// `width` pixels, among the masked pixels) by more than log(contrast): it is brighter by that
+/// factor than the darkest of its surroundings in every square holding it, so the structure is
+/// narrower than `width`. A sloped face of a relief brightens gradually; a line of paint steps.
+///
+/// @param[in] image    H x W linear intensity.
+/// @param[in] mask     H x W.
+/// @param[in] width    pixels, >= 2 (< 2: no pixel).
+/// @param[in] contrast > 1.
+/// @return H x W, only masked pixels marked.
+Mask bright_lines(const ImageF& image, const Mask& mask, int width, double contrast);
+
 /// Damps the forms larger than `detail_size` pixels out of a relief's depth: subtracts its masked
 /// Gaussian blur (normalized convolution, so the mask's edge and the frame's do not pull the level)
 /// of standard deviation 0.187 detail_size, a high-pass that keeps half of a sinusoid of wavelength
