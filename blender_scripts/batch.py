@@ -68,7 +68,10 @@ AUTO = "auto"
 
 def parse_args(argv: list[str]) -> argparse.Namespace:
     parser = Parser(prog="blender -b -P blender_scripts/batch.py --",
-                     description="Reconstructs every image of IN_DIR into OUT_DIR (see the module docstring).")
+                     description="Reconstructs every image of IN_DIR into OUT_DIR: <stem>_height.exr (the heights "
+                                 "in pixel units as a grey float image, alpha = mask, which Blender opens as a "
+                                 "height image), <stem>_normal.png (a tangent-space normal map) and <stem>.ply "
+                                 "(the mesh). More in the script's docstring and docs/blender_addon.md.")
     parser.add_argument("in_dir", type=Path, metavar="IN_DIR", help="folder of images")
     parser.add_argument("out_dir", type=Path, metavar="OUT_DIR", help="output folder (created if missing)")
     parser.add_argument("--scene", choices=[AUTO, *shadecut.SceneKind.__members__], default=AUTO,
