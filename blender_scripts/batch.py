@@ -1,6 +1,7 @@
 """Headless batch: every image of a folder reconstructed, its height, normal map and mesh written.
 
-    blender -b -P blender_scripts/batch.py -- IN_DIR OUT_DIR [--scene object|relief] [--max-size N]
+    blender -b -P blender_scripts/batch.py -- IN_DIR OUT_DIR [--scene auto|object|relief] [--max-size N]
+                                              [--max-vertices N | --full-mesh]
     python3 blender_scripts/batch.py IN_DIR OUT_DIR [...]       (works without Blender too)
 
 Every file of IN_DIR (not its subfolders) with an image extension (.png .jpg .jpeg .tif .tiff .exr
@@ -8,17 +9,26 @@ Every file of IN_DIR (not its subfolders) with an image extension (.png .jpg .jp
 reconstructed by ``shadecut.reconstruct`` with the light and albedo estimated from the image and the
 library's default options, and written to OUT_DIR (created if missing) as
 
-    <stem>_height.exr   the depth in pixel units, larger = closer (channels Z and A = mask)
+    <stem>_height.exr   the depth in pixel units, larger = closer: a grey float image (channel Y, alpha
+                        A = mask) that Blender loads as the heights (shadecut.save_depth)
     <stem>_normal.png   a tangent-space normal map, 0.5 n + 0.5 as RGB (16-bit, Non-Color data),
                         the add-on's rule (shadecut.imaging.normal_colors)
-    <stem>.ply          the height field as a triangle mesh (shadecut.save_mesh), pixel units
+    <stem>.ply          the height field as a triangle mesh (shadecut.save_mesh), pixel units, within
+                        the add-on's Vertex limit (shadecut.MAX_VERTICES, 250,000): one vertex every
+                        shadecut.vertex_step pixels; --max-vertices N sets another budget, --full-mesh
+                        gives every pixel a vertex
 
---scene relief is the add-on's Subject = Relief (a wall, a coin, bark); --max-size N shrinks a larger
-image by a whole factor until neither side exceeds N pixels, as the add-on's Max size does (0 = full
-size, the default here). Each file's three outputs are written under temporary names and then
-renamed, so a file named like an output is always complete.
+The subject (the add-on's Subject) is, by default (--scene auto), chosen for each image from its
+alpha: an image whose alpha leaves part of it transparent is an object cut out from its background
+(Object); one without alpha, or opaque everywhere, fills the frame and is read as a relief (a wall,
+a coin, bark, a texture: Relief, which keeps its carrier flat). An object photographed on a plain
+background without alpha needs --scene object; --scene relief or object sets every image's subject.
+--max-size N shrinks a larger image by a whole factor until neither side exceeds N pixels, as the
+add-on's Max size does (0 = full size, the default here). Each file's three outputs are written
+under temporary names and then renamed, so a file named like an output is always complete.
 
-One progress line per image (index/total, name, seconds, the light found); a file that cannot be
+One progress line per image (index/total, name, seconds, the subject and why, the light found,
+the mesh's density); a file that cannot be
 read or reconstructed gets an error line naming it, and the others are still done. Files without an
 image extension are listed as skipped.
 
@@ -53,21 +63,33 @@ from usage import Parser, UsageError  # noqa: E402
 
 IMAGE_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr", ".hdr", ".bmp", ".tga")
 PROG = "batch.py"
+AUTO = "auto"
 
 
 def parse_args(argv: list[str]) -> argparse.Namespace:
     parser = Parser(prog="blender -b -P blender_scripts/batch.py --",
-                     description="Reconstructs every image of IN_DIR into OUT_DIR (see the module docstring).")
+                     description="Reconstructs every image of IN_DIR into OUT_DIR: <stem>_height.exr (the heights "
+                                 "in pixel units as a grey float image, alpha = mask, which Blender opens as a "
+                                 "height image), <stem>_normal.png (a tangent-space normal map) and <stem>.ply "
+                                 "(the mesh). More in the script's docstring and docs/blender_addon.md.")
     parser.add_argument("in_dir", type=Path, metavar="IN_DIR", help="folder of images")
     parser.add_argument("out_dir", type=Path, metavar="OUT_DIR", help="output folder (created if missing)")
-    parser.add_argument("--scene", choices=list(shadecut.SceneKind.__members__),
-                        help=f"what the images show (default: the library's, "
-                             f"{shadecut.ReconstructOptions().scene.name})")
+    parser.add_argument("--scene", choices=[AUTO, *shadecut.SceneKind.__members__], default=AUTO,
+                        help="what the images show (default auto: relief for an image without transparent "
+                             "pixels, which fills the frame, object for one whose alpha cuts it out; give "
+                             "--scene object for objects photographed on a background without alpha)")
     parser.add_argument("--max-size", type=int, default=0, metavar="N",
                         help="shrink larger images by a whole factor to at most N px a side (default 0 = full size)")
+    mesh = parser.add_mutually_exclusive_group()
+    mesh.add_argument("--max-vertices", type=int, default=shadecut.MAX_VERTICES, metavar="N",
+                      help=f"the mesh's vertex budget: one vertex every few pixels so that at most N remain "
+                           f"(default {shadecut.MAX_VERTICES:,}, the add-on's Vertex limit)")
+    mesh.add_argument("--full-mesh", action="store_true", help="every masked pixel a vertex of the mesh")
     args = parser.parse_args(argv)
     if args.max_size < 0:
         raise UsageError(f"--max-size must be 0 (full size) or more, not {args.max_size}")
+    if args.max_vertices < 4:
+        raise UsageError(f"--max-vertices must be at least 4 (one quad), not {args.max_vertices}")
     return args
 
 
@@ -133,13 +155,14 @@ def _partial(path: Path) -> Path:
     return path.with_name(f".{path.stem}.partial{path.suffix}")
 
 
-def write_outputs(paths: dict[str, Path], result) -> None:
-    """The three files of one reconstruction, each written under a temporary name and then renamed."""
+def write_outputs(paths: dict[str, Path], result, mesh_step: int) -> None:
+    """The three files of one reconstruction, each written under a temporary name and then renamed;
+    the mesh samples every ``mesh_step`` pixels."""
     partial = {key: _partial(path) for key, path in paths.items()}
     try:
         shadecut.save_depth(partial["height"], result.depth, result.mask)
         save_normal_map(partial["normal"], result.normals, result.mask)
-        shadecut.save_mesh(partial["mesh"], result.depth, result.mask)
+        shadecut.save_mesh(partial["mesh"], result.depth, result.mask, mesh_step)
         for key, path in paths.items():
             os.replace(partial[key], path)
     finally:
@@ -155,10 +178,21 @@ def _progress(fraction: float, stage: str) -> bool:
     return not STOP.requested  # False: the core stops with shadecut.Cancelled
 
 
-def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str]:
-    """The reconstruction of one image file, and a note on its working size ("" at full size)."""
+def subject(loaded, scene: str) -> tuple[str, str]:
+    """The subject (a SceneKind name) of a loaded image for --scene ``scene``, and why, for the log."""
+    if scene != AUTO:
+        return scene, "--scene"
+    if loaded.has_alpha and not loaded.mask.all():
+        return "object", "auto: its alpha cuts it out"
+    return "relief", "auto: " + ("opaque everywhere" if loaded.has_alpha else "no alpha") + ", it fills the frame"
+
+
+def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str, str]:
+    """The reconstruction of one image file, a note on its subject and one on its working size ("" at
+    full size)."""
     loaded = shadecut.load_image(path)
     image, mask = loaded.image, loaded.mask
+    scene, reason = subject(loaded, args.scene)
     note = ""
     if args.max_size:
         height, width = mask.shape
@@ -168,18 +202,20 @@ def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str]
             raise ValueError(f"--max-size {args.max_size}: {error}") from error
         if factor > 1:
             note = f" (shrunk by {factor} from {width} x {height})"
-    options = {"scene": args.scene} if args.scene else {}
-    return shadecut.reconstruct(image, mask=mask, progress=_progress, **options), note
+    return shadecut.reconstruct(image, mask=mask, progress=_progress, scene=scene), f"subject {scene} ({reason})", note
 
 
 def run(args: argparse.Namespace) -> int:
     images, skipped = list_inputs(args.in_dir)
     check_inputs_kept(images, args.out_dir)
     prepare_output(args.out_dir)
-    options = shadecut.ReconstructOptions() if args.scene is None else shadecut.ReconstructOptions(scene=args.scene)
-    print(f"{PROG}: {len(images)} image(s) in {args.in_dir} -> {args.out_dir}; scene {options.scene.name}, "
-          f"method {options.method.name}, light estimated ({options.light_method_used().name}), "
-          f"max size {args.max_size or 'full'}", flush=True)
+    scenes = list(shadecut.SceneKind.__members__) if args.scene == AUTO else [args.scene]
+    lights = "/".join(shadecut.ReconstructOptions(scene=scene).light_method_used().name for scene in scenes)
+    print(f"{PROG}: {len(images)} image(s) in {args.in_dir} -> {args.out_dir}; scene {args.scene}"
+          f"{' (relief without transparent pixels, else object)' if args.scene == AUTO else ''}, "
+          f"method {shadecut.ReconstructOptions().method.name}, light estimated ({lights}), "
+          f"max size {args.max_size or 'full'}, mesh "
+          f"{'every pixel' if args.full_mesh else f'at most {args.max_vertices:,} vertices'}", flush=True)
     for path in skipped:
         print(f"{PROG}: skipped {path.name}: not an image file ({path.suffix or 'no extension'})", flush=True)
 
@@ -195,8 +231,9 @@ def run(args: argparse.Namespace) -> int:
             if path.stem in stems:
                 raise ValueError(f"its outputs would overwrite those of {stems[path.stem]} (same name "
                                  f"'{path.stem}'): rename one of them")
-            result, note = reconstruct_file(path, args)
-            write_outputs(output_paths(args.out_dir, path.stem), result)
+            result, chosen, note = reconstruct_file(path, args)
+            step = 1 if args.full_mesh else shadecut.vertex_step(result.mask, args.max_vertices)
+            write_outputs(output_paths(args.out_dir, path.stem), result, step)
         except shadecut.Cancelled:
             raise KeyboardInterrupt from None
         except Exception as error:  # noqa: BLE001  (one bad file must not stop the others)
@@ -209,9 +246,10 @@ def run(args: argparse.Namespace) -> int:
         stems[path.stem] = path.name
         light = ", ".join(f"{value:.3f}" for value in result.light)
         height, width = result.mask.shape
-        print(f"{label}: {time.perf_counter() - began:.1f} s, light found ({light}), albedo {result.albedo:.3f}, "
-              f"{width} x {height}{note} -> {path.stem}_height.exr, {path.stem}_normal.png, {path.stem}.ply",
-              flush=True)
+        vertices = np.count_nonzero(result.mask[::step, ::step])
+        print(f"{label}: {time.perf_counter() - began:.1f} s, {chosen}, light found ({light}), albedo "
+              f"{result.albedo:.3f}, {width} x {height}{note} -> {path.stem}_height.exr, {path.stem}_normal.png, "
+              f"{path.stem}.ply ({vertices:,} vertices, one every {step} px)", flush=True)
 
     done = total - len(failed)
     print(f"{PROG}: {done} of {total} image(s) done in {time.perf_counter() - start:.1f} s"

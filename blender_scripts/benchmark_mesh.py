@@ -1,6 +1,8 @@
 """Times building the add-on's result object from a reconstruction (mesh or displaced plane, UVs,
 material, link), at the automatic density and at density 1; with --operator, also the whole
-"Reconstruct" operator on a synthetic sphere image.
+"Reconstruct" operator with the panel's default settings on a synthetic sphere image (an object on a
+transparent background, light given) and a full-frame bump field (Subject Relief, light estimated: a
+photo of a wall or a texture, as artists bring).
 
     blender -b --factory-startup --python-exit-code 1 -P blender_scripts/benchmark_mesh.py -- \\
         [--sizes 2048] [--repeat 3] [--max-vertices 250000] [--operator]
@@ -79,31 +81,41 @@ def benchmark_result_object(size: int, repeat: int, max_vertices: int) -> None:
     bpy.data.images.remove(source)
 
 
-def benchmark_operator(size: int, repeat: int) -> None:
-    """The operator as an artist runs it, default settings: working size, reconstruction, mesh."""
-    scene = synthetic.sphere(light=LIGHT, size=size)
-    image = bpy.data.images.new("sphere", size, size, alpha=True, float_buffer=True)
+def benchmark_operator(size: int, repeat: int, subject: str) -> None:
+    """The operator as an artist runs it, default settings: working size, reconstruction, mesh.
+    ``subject`` "sphere": an object on a transparent background, the light typed; "relief": a bump
+    field filling the frame, Subject Relief, the light estimated."""
+    scene = (synthetic.sphere(light=LIGHT, size=size) if subject == "sphere" else
+             synthetic.bumps(light=LIGHT, size=size))
+    image = bpy.data.images.new(subject, size, size, alpha=True, float_buffer=True)
     rgba = np.dstack([scene.image, scene.image, scene.image, scene.mask.astype(np.float32)])
     image.pixels.foreach_set(np.ascontiguousarray(rgba[::-1], dtype=np.float32).ravel())
     settings = bpy.context.scene.shadecut
+    for name in ("scene", "light_source"):
+        settings.property_unset(name)
     settings.image = image
-    settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    if subject == "sphere":
+        settings.light_source, settings.light_direction = "DIRECTION", LIGHT
+    else:
+        settings.scene = "relief"
 
     def run():
         assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
         return bpy.context.active_object
 
     method = shadecut.ReconstructOptions().method.name if settings.method == "DEFAULT" else settings.method
-    print(f"operator on a {size} x {size} image (method {method}, Max size {settings.max_resolution}, "
-          f"density {settings.density}, Max vertices {settings.max_vertices:,}): {timed(repeat, run, remove_result)}",
-          flush=True)
+    print(f"operator on a {size} x {size} {subject} image (Subject {settings.scene}, light {settings.light_source}, "
+          f"method {method}, Max size {settings.max_resolution}, auto density {settings.auto_density}, "
+          f"Vertex limit {settings.max_vertices:,}): {timed(repeat, run, remove_result)}", flush=True)
+    bpy.data.images.remove(image)
 
 
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(prog="benchmark_mesh.py")
     parser.add_argument("--sizes", default="2048", help="square result sizes, comma-separated")
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--max-vertices", type=int, default=250_000, help="the automatic density's budget")
+    parser.add_argument("--max-vertices", type=int, default=shadecut.MAX_VERTICES,
+                        help="the automatic density's budget")
     parser.add_argument("--operator", action="store_true", help="also time the whole operator per size")
     args = parser.parse_args(argv)
     print(f"command: blender {' '.join(sys.argv[1:])}")
@@ -116,7 +128,8 @@ def main(argv: list[str]) -> int:
     for size in (int(value) for value in args.sizes.split(",")):
         benchmark_result_object(size, args.repeat, args.max_vertices)
         if args.operator:
-            benchmark_operator(size, args.repeat)
+            for subject in ("sphere", "relief"):
+                benchmark_operator(size, args.repeat, subject)
     return 0
 
 

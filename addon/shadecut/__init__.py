@@ -29,6 +29,7 @@ if _CORE_PROBLEM is None or "bpy" not in sys.modules:
         LIGHT_METHODS,
         METHODS,
         MAX_THREADS,
+        MAX_VERTICES,
         MIN_LABELS,
         OPTION_NAMES,
         SceneKind,
@@ -62,6 +63,7 @@ if _CORE_PROBLEM is None or "bpy" not in sys.modules:
         save_image,
         save_mesh,
         save_normals,
+        vertex_step,
     )
 
 __version__ = "0.1.0"
@@ -94,6 +96,7 @@ __all__ = [
     "LIGHT_METHODS",
     "METHODS",
     "MAX_THREADS",
+    "MAX_VERTICES",
     "MIN_LABELS",
     "OPTION_NAMES",
     "SceneKind",
@@ -127,4 +130,5 @@ __all__ = [
     "save_image",
     "save_mesh",
     "save_normals",
+    "vertex_step",
 ]

@@ -316,6 +316,21 @@ def height_field_mesh(depth, mask=None, step: int = 1) -> tuple[np.ndarray, np.n
     return _core.height_field_mesh(_real(depth), _mask(mask), int(step))
 
 
-def save_mesh(path: str | os.PathLike, depth, mask=None) -> None:
-    """Writes the height field as a .ply or .obj triangle mesh, vertices at (column, -row, depth)."""
-    _image_files().save_mesh(os.fspath(path), _real(depth), _mask(mask))
+# The vertex budget of a result mesh unless asked otherwise (the add-on's Vertex limit, batch.py's
+# meshes): half a million triangles, which Material Preview redraws interactively on a modest GPU.
+MAX_VERTICES = 250_000
+
+
+def vertex_step(mask, max_vertices: int = MAX_VERTICES) -> int:
+    """The smallest sampling step (for :func:`height_field_mesh` and :func:`save_mesh`) that leaves at
+    most ``max_vertices`` vertices on ``mask`` (H, W) bool; 1 when every masked pixel fits."""
+    mask = _mask(mask)
+    height, width = mask.shape
+    return next(step for step in range(1, max(height, width) + 1)
+                if np.count_nonzero(mask[::step, ::step]) <= max_vertices)
+
+
+def save_mesh(path: str | os.PathLike, depth, mask=None, step: int = 1) -> None:
+    """Writes the height field sampled every ``step`` pixels as a .ply or .obj triangle mesh, vertices
+    at (column, -row, depth) in pixel units (:func:`height_field_mesh`'s)."""
+    _image_files().save_mesh(os.fspath(path), _real(depth), _mask(mask), int(step))

@@ -7,7 +7,8 @@ A sample folder holds
   :func:`shadecut.load_image` returns the linear values of ``image.exr`` (to 16-bit precision;
   values above 1, which only noise can make, are clipped to 1 there).
 - ``normals.exr``: unit normals in the camera frame (channels R, G, B = x, y, z), 0 outside the mask.
-- ``depth.exr``: **camera-frame z in scene units** (channel Z; alpha = mask, z = 0 outside it). The
+- ``depth.exr``: **camera-frame z in scene units** (grey channel Y, Z in samples written before
+  ShadeCut wrote Y; alpha = mask, z = 0 outside it). The
   camera looks down -z, so z is negative in front of it and larger = closer, as in pixel units.
   ``meta["pixel_size"]`` is the size of one pixel in scene units (for a perspective camera: at the
   objects' distance), and :func:`load_sample` returns ``z / pixel_size``, i.e. depth in pixel units.
@@ -82,8 +83,17 @@ def is_sample(folder) -> bool:
 
 
 # Channels each image file of a sample must hold (check_sample).
-_CHANNELS = {"image.exr": ["Y"], "image.png": ["Y"], "normals.exr": ["R", "G", "B"], "depth.exr": ["Z"],
+_CHANNELS = {"image.exr": ["Y"], "image.png": ["Y"], "normals.exr": ["R", "G", "B"], "depth.exr": [],
              "mask.png": [], "shadow_mask.png": [], "albedo.exr": ["Y"]}
+# save_depth's channel, then the one it wrote before (Z, which Blender loads as black): samples
+# already rendered and cached keep loading.
+DEPTH_CHANNELS = ("Y", "Z")
+
+
+def _depth_channel(pixels: np.ndarray, channel_names: list[str]) -> Optional[np.ndarray]:
+    """The depth plane (H, W) of a depth.exr's pixels, or None when it has none of DEPTH_CHANNELS."""
+    name = next((name for name in DEPTH_CHANNELS if name in channel_names), None)
+    return None if name is None else pixels[..., channel_names.index(name)]
 
 
 def check_sample(folder) -> Optional[str]:
@@ -121,6 +131,8 @@ def check_sample(folder) -> Optional[str]:
         missing = [c for c in _CHANNELS.get(str(name), []) if c not in channels]
         if missing:
             return f"{path} has no channel {missing[0]} (it has {channels})"
+        if name == "depth.exr" and _depth_channel(pixels, channels) is None:
+            return f"{path} has no channel {' or '.join(DEPTH_CHANNELS)} (it has {channels})"
     return None
 
 
@@ -142,7 +154,11 @@ def load_sample(folder) -> Sample:
     normals = _read_channels(folder / "normals.exr", ["R", "G", "B"])
     depth = None
     if (folder / "depth.exr").is_file():
-        z = _read_channels(folder / "depth.exr", ["Z"])[..., 0]
+        pixels, channel_names = read_image_channels(folder / "depth.exr")
+        z = _depth_channel(pixels, channel_names)
+        if z is None:
+            raise OSError(f"shadecut: {folder / 'depth.exr'} has no channel {' or '.join(DEPTH_CHANNELS)} "
+                          f"(it has {channel_names})")
         depth = np.where(mask, z / np.float32(meta["pixel_size"]), 0).astype(np.float32)
     shadow_path, albedo_path = folder / "shadow_mask.png", folder / "albedo.exr"
     return Sample(

@@ -35,7 +35,7 @@ META = "meta.json"
 
 def read_image_channels(path) -> tuple[np.ndarray, list[str]]:
     """(H, W, C) float32 pixels of any image file OpenImageIO reads, row 0 at the top, and the
-    channel names (EXR stores them sorted, so "Z" of a Z + A file is not the first)."""
+    channel names (EXR stores them sorted, so "Y" of a Y + A file is not the first)."""
     image = oiio.ImageInput.open(str(path))
     if image is None:
         raise OSError(f"shadecut: cannot read {path}: {oiio.geterror()}")

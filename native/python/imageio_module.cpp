@@ -47,8 +47,9 @@ PYBIND11_MODULE(_imageio, m) {
     shadecut::save_normals(path, n, mask_or_all(mask, n.rows, n.cols));
   });
 
-  m.def("save_mesh", [](const std::string& path, const FloatArray& depth, const std::optional<BoolArray>& mask) {
+  m.def("save_mesh", [](const std::string& path, const FloatArray& depth, const std::optional<BoolArray>& mask,
+                        int step) {
     const ImageF z = to_image(depth, "depth map");
-    shadecut::save_mesh(path, z, mask_or_all(mask, z.rows(), z.cols()));
+    shadecut::save_mesh(path, z, mask_or_all(mask, z.rows(), z.cols()), step);
   });
 }

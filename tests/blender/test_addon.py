@@ -10,7 +10,7 @@ from mathutils import Euler, Vector
 import shadecut
 from shadecut import imaging, synthetic
 from shadecut.blender import frames, image_input, reconstruct_job
-from shadecut.blender.mesh import vertex_step
+from shadecut import vertex_step
 
 LIGHT = (1.0, 0.0, 1.0)
 
@@ -107,7 +107,7 @@ def test_density_samples_every_nth_pixel(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    settings.density = 3
+    settings.auto_density, settings.density = False, 3
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
     assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(truth.mask[::3, ::3])
 
@@ -121,7 +121,7 @@ def test_automatic_density_is_the_finest_within_the_budget(addon, sphere_png):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    assert settings.density == 0 and np.count_nonzero(truth.mask) <= settings.max_vertices
+    assert settings.auto_density and np.count_nonzero(truth.mask) <= settings.max_vertices
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
     assert len(bpy.context.active_object.data.vertices) == np.count_nonzero(truth.mask)
 
@@ -373,7 +373,11 @@ def test_a_relief_sits_flat_and_keeps_under_the_height_limit(addon, tmp_path):
     basis = np.column_stack([co[:, 0], co[:, 1], np.ones(len(co))])
     slope = np.hypot(*np.linalg.lstsq(basis, co[:, 2], rcond=None)[0][:2])
     assert slope <= 0.01  # a flat carrier: no ramp
-    settings.max_height = 0.05
+    unlimited = np.ptp(co[:, 2])
+    assert unlimited > 0.05  # the limit below lowers it
+    settings.max_height = 0.05  # Limit height still off: Max height is not applied
+    assert np.ptp(heights()[:, 2]) == pytest.approx(unlimited, rel=1e-6)
+    settings.limit_height = True
     assert np.ptp(heights()[:, 2]) == pytest.approx(0.05, rel=1e-3)
 
 

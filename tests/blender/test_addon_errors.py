@@ -171,9 +171,9 @@ def _error_setup(case, sphere_png, tmp_path):
     elif case == "depth scale infinite":
         settings.depth_scale = -math.inf
     elif case == "density of the image size":
-        settings.density = truth.mask.shape[1]
+        settings.auto_density, settings.density = False, truth.mask.shape[1]
     elif case == "density leaving no face":
-        settings.density = truth.mask.shape[1] // 2
+        settings.auto_density, settings.density = False, truth.mask.shape[1] // 2
     elif case == "max vertices leaving no face":
         settings.image = bpy.data.images.new("band", 64, 64, alpha=True, float_buffer=True)
         pixels = np.zeros((64, 64, 4), np.float32)
@@ -206,7 +206,8 @@ def _error_setup(case, sphere_png, tmp_path):
                                   "density is"),
     ("density leaving no face", "the largest usable density is"),
     ("max vertices leaving no face", "Vertex limit 100 gives density 2, which leaves no face on the 64 x 64 working "
-                                     "image of 'band': raise the Vertex limit, or set Density to 1 or less"),
+                                     "image of 'band': raise the Vertex limit, or turn Auto density off and set "
+                                     "Density to 1 or less"),
     ("file black", "Image 'black.png' is black"),
     ("file transparent", "Image 'clear.png' is transparent everywhere"),
     ("file 1 x 1", "Image 'dot.png' is 1 x 1 pixels: at least 2 x 2 are needed"),
@@ -236,7 +237,7 @@ def test_errors_return_cancelled(addon, sphere_png, tmp_path):
     """The operator's own result for a refused input, seen without bpy.ops (which raises)."""
     settings = bpy.context.scene.shadecut
     settings.light_source = "DIRECTION"
-    settings.density = 96
+    settings.auto_density, settings.density = False, 96
 
     class Operator(Reports):
         filepath, _interactive = str(sphere_png[1]), False

@@ -27,6 +27,18 @@ def ply_vertex_count(path):
     return int(line.split()[-1])
 
 
+def blender_pixels(path):
+    """(H, W, 4) float pixels of an image as bpy.data.images.load reads it, row 0 at the top."""
+    image = bpy.data.images.load(str(path))
+    try:
+        width, height = image.size
+        pixels = np.empty(width * height * 4, np.float32)
+        image.pixels.foreach_get(pixels)
+        return pixels.reshape(height, width, 4)[::-1]
+    finally:
+        bpy.data.images.remove(image)
+
+
 @pytest.fixture
 def folder(tmp_path):
     """Two sphere renders (a 16-bit PNG and a float EXR, mask as alpha) with, sorted between them, a
@@ -52,13 +64,13 @@ def test_batch_writes_every_good_image_and_names_the_bad_ones(repo, folder, tmp_
     assert run.returncode == 1, "a failed file must give a non-zero exit code"
     assert "Traceback" not in run.stderr
 
-    # One progress line per image, in name order: index/total, name, seconds, the light found.
+    # One progress line per image, in name order: index/total, name, seconds, the subject, the light found.
     for index, name in enumerate(sorted([*SIZES, "b_broken.png", "c_notes.jpg"]), 1):
         stream = run.stdout if name in SIZES else run.stderr
         assert f"[{index}/4] {name}: " in stream, name
     for name in SIZES:
         (line,) = [line for line in run.stdout.splitlines() if f"] {name}: " in line]
-        assert " s, light found (" in line, line
+        assert " s, subject object (auto: its alpha cuts it out), light found (" in line, line
     assert "[2/4] b_broken.png: error: " in run.stderr and "[3/4] c_notes.jpg: error: " in run.stderr
     assert "skipped e_readme.txt" in run.stdout
     assert "2 of 4 image(s) done" in run.stdout
@@ -69,13 +81,19 @@ def test_batch_writes_every_good_image_and_names_the_bad_ones(repo, folder, tmp_
         expected |= {f"{stem}_height.exr", f"{stem}_normal.png", f"{stem}.ply"}
         pixels, channels = read_image_channels(out_dir / f"{stem}_height.exr")
         assert pixels.shape[:2] == (size, size)
-        depth, mask = pixels[..., channels.index("Z")], pixels[..., channels.index("A")] > 0.5
+        depth, mask = pixels[..., channels.index("Y")], pixels[..., channels.index("A")] > 0.5
         np.testing.assert_array_equal(mask, truth.mask)
         assert np.isfinite(depth).all()
         # The sphere's centre stands above its rim (the mask's outermost ring of pixels).
         inner = shadecut.erode_mask(mask, 1)
         rim = mask & ~inner
         assert depth[size // 2, size // 2] > np.mean(depth[rim]) + 0.2 * size, name
+        # Blender opens it as a grey image of the same heights (a Z channel opened black), the mask in alpha.
+        loaded = blender_pixels(out_dir / f"{stem}_height.exr")
+        for channel in range(3):
+            np.testing.assert_array_equal(loaded[..., channel], depth)
+        np.testing.assert_array_equal(loaded[..., 3] > 0.5, mask)
+        assert loaded[..., 0].max() > 0.2 * size
 
         colors, _ = read_image_channels(out_dir / f"{stem}_normal.png")
         assert colors.shape == (size, size, 3)
@@ -90,7 +108,7 @@ def test_max_size_and_relief(repo, folder, tmp_path):
     out_dir = tmp_path / "out"
     run = batch(repo, in_dir, out_dir, "--max-size", "32", "--scene", "relief")
     print(run.stdout, run.stderr)
-    assert run.returncode == 1 and "scene relief" in run.stdout
+    assert run.returncode == 1 and "scene relief" in run.stdout and "subject relief (--scene)" in run.stdout
     assert "32 x 32 (shrunk by 2 from 64 x 64)" in run.stdout  # the add-on's whole-factor rule
     pixels, _ = read_image_channels(out_dir / "a_sphere_height.exr")
     assert pixels.shape[:2] == (32, 32)

@@ -39,8 +39,8 @@ def test_panel_and_preferences_defaults_equal_the_bound_defaults(settings):
 def test_artist_sizes_by_default(settings):
     """A 4-megapixel working size, and a density chosen to keep the viewport interactive."""
     assert settings.max_resolution == 2048
-    assert settings.density == 0  # automatic
-    assert settings.max_vertices == 250_000
+    assert settings.auto_density and not settings.limit_height  # automatic density, heights as reconstructed
+    assert settings.max_vertices == shadecut.MAX_VERTICES == 250_000
 
 
 def test_the_first_click_needs_nothing_from_the_scene(settings):

@@ -222,3 +222,28 @@ def test_the_research_settings_are_in_a_closed_advanced_sub_panel(factory_scene,
         main |= set(drawn)
     assert main.isdisjoint(RESEARCH_SETTINGS)
     assert main | set(advanced) == {prop.identifier for prop in settings_of(ShadeCutReconstructSettings)}
+
+
+def test_no_height_limit_and_automatic_density_are_said_in_words(factory_scene):
+    """Max height and Density once showed 0 for "no limit" and "automatic": each is now a checkbox
+    with a word ("Limit", "Auto") beside a value that is greyed out while it does not apply."""
+    texts = {}
+
+    class TextLayout(RecordingLayout):
+        def column(self, **_options):
+            return TextLayout(self.drawn)
+
+        row = column
+
+        def prop(self, _data, identifier, text=None, **_options):
+            self.drawn.append(identifier)
+            texts[identifier] = (text, getattr(self, "active", True))
+
+    settings = factory_scene.shadecut
+    panels.draw_reconstruct_settings(TextLayout([]), settings)
+    assert texts["limit_height"][0] == "Limit" and texts["auto_density"][0] == "Auto"
+    assert texts["max_height"] == ("", False) and texts["density"] == ("", False)  # off by default: greyed
+    assert settings.max_height > 0 and settings.density >= 1  # no 0 stands for a mode
+    settings.limit_height, settings.auto_density = True, False
+    panels.draw_reconstruct_settings(TextLayout([]), settings)
+    assert texts["max_height"] == ("", True) and texts["density"] == ("", True)

@@ -16,7 +16,8 @@ LIGHT = (1.0, 0.0, 1.0)
 def reconstruct(path, **settings):
     options = bpy.context.scene.shadecut
     options.image = bpy.data.images.load(str(path))
-    options.light_source, options.light_direction, options.density = "DIRECTION", LIGHT, 1
+    options.light_source, options.light_direction = "DIRECTION", LIGHT
+    options.auto_density, options.density = False, 1
     for key, value in settings.items():
         setattr(options, key, value)
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}

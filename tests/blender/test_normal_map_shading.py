@@ -79,7 +79,7 @@ def test_the_normal_map_on_a_plane_shades_as_the_mesh(addon, tmp_path):
     settings = bpy.context.scene.shadecut
     settings.image = bpy.data.images.load(str(path))
     settings.light_source, settings.light_direction = "DIRECTION", LIGHT
-    settings.width, settings.density = WIDTH, 1
+    settings.width, settings.auto_density, settings.density = WIDTH, False, 1
 
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}  # the mesh, no maps
     mesh = bpy.context.active_object

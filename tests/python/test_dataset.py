@@ -4,6 +4,7 @@ import csv
 import json
 
 import numpy as np
+import OpenImageIO as oiio
 import pytest
 
 import shadecut
@@ -38,6 +39,24 @@ def test_sample_round_trip(tmp_path):
     png = shadecut.load_image(tmp_path / "sphere_000" / "image.png")
     np.testing.assert_allclose(png.image, scene.image, atol=2e-5)
     np.testing.assert_array_equal(png.mask, scene.mask)
+
+
+def test_a_depth_written_with_the_former_z_channel_still_loads(tmp_path):
+    """depth.exr was Z + A (which Blender loads black) before save_depth wrote Y + A: samples rendered
+    and cached then keep loading, with the same depth."""
+    scene = sphere_sample(tmp_path)
+    path = tmp_path / "sphere_000" / "depth.exr"
+    pixels, channels = dataset_files.read_image_channels(path)
+    assert set(channels) == {"Y", "A"}
+    spec = oiio.ImageSpec(32, 32, 2, oiio.FLOAT)
+    spec.channelnames, spec.alpha_channel = ("Z", "A"), 1
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), spec)
+    out.write_image(np.dstack([pixels[..., channels.index("Y")], pixels[..., channels.index("A")]]))
+    out.close()
+    assert dataset.check_sample(tmp_path / "sphere_000") is None
+    sample = dataset.load_sample(tmp_path / "sphere_000")
+    np.testing.assert_allclose(sample.depth[scene.mask], scene.depth[scene.mask] - 100.0, atol=1e-3)
 
 
 def test_optional_shadow_mask_and_albedo_map(tmp_path):

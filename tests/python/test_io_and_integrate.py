@@ -87,7 +87,7 @@ def test_save_depth_normals_and_mesh_write_readable_files(tmp_path):
     shadecut.save_normals(tmp_path / "normals.png", sphere.normals, sphere.mask)
     shadecut.save_mesh(tmp_path / "mesh.obj", sphere.depth, sphere.mask)
     exr = oiio.ImageInput.open(str(tmp_path / "depth.exr"))
-    z_channel = list(exr.spec().channelnames).index("Z")  # EXR stores channels in name order
+    z_channel = list(exr.spec().channelnames).index("Y")  # grey, as Blender reads it; EXR sorts channels
     np.testing.assert_allclose(exr.read_image(oiio.FLOAT)[..., z_channel], sphere.depth, atol=1e-5)
     vertices = sum(line.startswith("v ") for line in open(tmp_path / "mesh.obj"))
     assert vertices == sphere.mask.sum()

@@ -22,13 +22,6 @@ class MeshError(ValueError):
     """A height field that would make an empty or broken mesh; the message says why."""
 
 
-def vertex_step(mask: np.ndarray, max_vertices: int) -> int:
-    """The smallest sampling step that leaves at most ``max_vertices`` vertices on ``mask``."""
-    height, width = mask.shape
-    return next(step for step in range(1, max(height, width) + 1)
-                if np.count_nonzero(mask[::step, ::step]) <= max_vertices)
-
-
 def grid_geometry(depth: np.ndarray, mask: np.ndarray, *, size: float, depth_scale: float, step: int):
     """The vertices, quads and UVs of a height field in scene units, sampled every ``step`` pixels.
 

@@ -12,6 +12,17 @@ from .reconstruct_operator import SHADECUT_OT_reconstruct
 from .render_operator import SHADECUT_OT_render_lambertian
 
 
+def _toggled_value(column, settings, toggle: str, value: str, *, heading: str, toggle_text: str,
+                   value_when_on: bool = True) -> None:
+    """A row "heading [x] toggle_text [value]": the value greyed out while it does not apply, so the
+    panel says "Auto" or "Limit" in words where a 0 used to stand for it."""
+    row = column.row(heading=heading)
+    row.prop(settings, toggle, text=toggle_text)
+    sub = row.row()
+    sub.active = getattr(settings, toggle) == value_when_on
+    sub.prop(settings, value, text="")
+
+
 def draw_reconstruct_settings(layout, settings) -> None:
     """Draws the artist's settings and the buttons into a panel's layout."""
     layout.use_property_split = True
@@ -21,6 +32,11 @@ def draw_reconstruct_settings(layout, settings) -> None:
     column.row().prop(settings, "scene", expand=True)
     if settings.scene == "relief":
         column.prop(settings, "seamless")
+        if not settings.seamless:
+            if settings.detail_size == 0:
+                column.prop(settings, "detail_size", text="Detail size (Auto)")
+            else:
+                column.prop(settings, "detail_size")
     column.prop(settings, "image")
     column.prop(settings, "max_resolution")
 
@@ -42,11 +58,12 @@ def draw_reconstruct_settings(layout, settings) -> None:
         column.prop(settings, "output")
         column.prop(settings, "width")
     column.prop(settings, "depth_scale")
-    column.prop(settings, "max_height")
+    _toggled_value(column, settings, "limit_height", "max_height", heading="Max height", toggle_text="Limit")
     if new_object:
-        column.prop(settings, "density")
+        _toggled_value(column, settings, "auto_density", "density", heading="Density", toggle_text="Auto",
+                       value_when_on=False)
         sub = column.column()
-        sub.active = settings.density == 0
+        sub.active = settings.auto_density
         sub.prop(settings, "max_vertices")
     column.prop(settings, "normal_map")
     column.prop(settings, "height_map")

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import bpy
 
-from ..api import MIN_LABELS, AlbedoMethod, Integrator, ReconstructOptions, SceneKind
+from ..api import MAX_VERTICES, MIN_LABELS, AlbedoMethod, Integrator, ReconstructOptions, SceneKind
 from . import lambertian
 from .preferences import METHOD_ITEMS
 
@@ -58,6 +58,12 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         description="Relief: a surface, height and normal map that tile (left edge meets right, top meets "
                     "bottom), for a repeating texture. The whole image is used, transparency too",
     )
+    detail_size: bpy.props.FloatProperty(
+        name="Detail size", default=DEFAULTS.detail_size, min=0.0, soft_max=512.0, subtype="PIXEL",
+        description="Relief: forms larger than this many pixels are carrier, not detail, and are flattened away "
+                    "(a wall's bow, a photo's uneven light). 0 = Auto: read from the image, about 1.5 times "
+                    "the size of its shading's detail",
+    )
     image: bpy.props.PointerProperty(
         name="Image", type=bpy.types.Image,
         description="The picture to turn into a surface; empty = the image open in the Image Editor, else the "
@@ -67,7 +73,8 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     max_resolution: bpy.props.IntProperty(
         name="Max size", default=2048, min=0, soft_max=4096, subtype="PIXEL",
         description="A larger image shrinks by a whole factor until neither side exceeds this (0 = full size). "
-                    "Reconstructing a 2048 px image takes about 5 s on two cores (graphcut), 1024 px about 1.3 s",
+                    "The time grows with the pixels: 2048 px has four times those of 1024 px, and a photo at "
+                    "2048 px takes from seconds to tens of seconds (the status bar shows the progress; Esc cancels)",
     )
 
     # Estimate comes first and is the default: it needs nothing from the scene, so the first
@@ -171,19 +178,32 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     )
     depth_scale: bpy.props.FloatProperty(
         name="Depth scale", default=1.0, soft_min=0.0, soft_max=10.0,
-        description="Multiplies the heights: 1 = true proportions, 0.5 = half as deep",
+        description="Multiplies the reconstructed heights. 1 = as reconstructed, a pixel of height as long as "
+                    "a pixel of width; shading says little about overall depth, so a relief can come out far "
+                    "deeper or flatter than the real one: lower this (0.5 = half as deep) or limit the height",
+    )
+    limit_height: bpy.props.BoolProperty(
+        name="Limit height", default=False,
+        description="Scale the heights down so that the result is at most Max height high; "
+                    "off = the heights as Depth scale makes them",
     )
     max_height: bpy.props.FloatProperty(
-        name="Max height", default=0.0, min=0.0, soft_max=10.0, unit="LENGTH",
-        description="Scale the heights down so that the result is at most this high (0 = no limit)",
+        name="Max height", default=0.2, min=1e-4, soft_max=10.0, unit="LENGTH",
+        description="With Limit height on, the result's greatest height from its lowest to its highest point, "
+                    "in scene units (a result that is lower keeps its heights)",
+    )
+    auto_density: bpy.props.BoolProperty(
+        name="Auto density", default=True,
+        description="Choose the density itself: the finest that keeps within the Vertex limit "
+                    "(every pixel a vertex when that fits); off = the density beside",
     )
     density: bpy.props.IntProperty(
-        name="Density", default=0, min=0, soft_max=16,
-        description="One vertex every this many pixels; 0 = automatic, the finest within the Vertex limit. "
-                    "At 1, a 2048 px result has 4.2 million vertices and takes about 2.4 s to build",
+        name="Density", default=1, min=1, soft_max=16,
+        description="With Auto density off, one vertex every this many pixels (1 = every pixel: a 2048 px "
+                    "result has 4.2 million vertices and takes about 2.4 s to build)",
     )
     max_vertices: bpy.props.IntProperty(
-        name="Vertex limit", default=250_000, min=4, soft_max=4_000_000,
+        name="Vertex limit", default=MAX_VERTICES, min=4, soft_max=4_000_000,
         description="Vertex budget of the automatic density. 250,000 (half a million triangles) keeps Material "
                     "Preview interactive on a modest GPU; a 2048 px result then builds in under 0.5 s",
     )

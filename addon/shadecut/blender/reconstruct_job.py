@@ -18,7 +18,7 @@ from .flip_operator import RESULT_PROPERTY, report_orientation
 from .frames import FrameError, light_in_camera_frame
 from .image_input import InputError, image_pixels, image_to_reconstruct
 from .preferences import addon_preferences
-from .mesh import MeshError, vertex_step
+from .mesh import MeshError
 from .result import TargetError, apply_maps, check_target, limited_depth_scale, result_object
 from .wording import short_number, with_article
 
@@ -127,8 +127,18 @@ def _check_output(settings) -> None:
         raise InputError(f"Width must be a finite number > 0 (it is {settings.width:g})")
     if not _finite(settings.depth_scale):
         raise InputError(f"Depth scale must be a finite number (it is {settings.depth_scale:g})")
-    if not (_finite(settings.max_height) and settings.max_height >= 0):
-        raise InputError(f"Max height must be a finite number >= 0 (it is {settings.max_height:g})")
+    if settings.limit_height and not (_finite(settings.max_height) and settings.max_height > 0):
+        raise InputError(f"Max height must be a finite number > 0 (it is {settings.max_height:g})")
+
+
+def _density(settings) -> int:
+    """The density asked for: 0 = automatic (Auto density), as mesh_step takes it."""
+    return 0 if settings.auto_density else settings.density
+
+
+def _height_limit(settings) -> float:
+    """The height limit asked for: 0 = none (Limit height off), as limited_depth_scale takes it."""
+    return settings.max_height if settings.limit_height else 0.0
 
 
 def _has_face(mask: np.ndarray, step: int) -> bool:
@@ -141,7 +151,7 @@ def _has_face(mask: np.ndarray, step: int) -> bool:
 
 def mesh_step(mask: np.ndarray, density: int, max_vertices: int) -> int:
     """The result's sampling step: ``density``, or with density 0 the finest within ``max_vertices``."""
-    return density or vertex_step(mask, max_vertices)
+    return density or api.vertex_step(mask, max_vertices)
 
 
 def _check_density(name: str, mask: np.ndarray, density: int, max_vertices: int) -> None:
@@ -159,7 +169,8 @@ def _check_density(name: str, mask: np.ndarray, density: int, max_vertices: int)
         raise InputError(f"Density {density} leaves no face on the {width} x {height} working image of '{name}': "
                          f"the largest usable density is {usable}")
     raise InputError(f"Vertex limit {max_vertices:,} gives density {step}, which leaves no face on the {width} x "
-                     f"{height} working image of '{name}': raise the Vertex limit, or set Density to {usable} or less")
+                     f"{height} working image of '{name}': raise the Vertex limit, or turn Auto density off and "
+                     f"set Density to {usable} or less")
 
 
 def prepare_job(context, filepath: str = "") -> Job:
@@ -192,7 +203,7 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
         except TargetError as error:
             raise InputError(str(error)) from error
     else:
-        _check_density(source.name, mask, settings.density, settings.max_vertices)
+        _check_density(source.name, mask, _density(settings), settings.max_vertices)
     light, light_origin = _light(context, settings)
 
     preferences = addon_preferences(context)
@@ -204,7 +215,7 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
         mask = np.ones_like(mask)  # a tiling surface covers the whole image
     options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,
                    integrator=settings.integrator, fit_shading=settings.fit_shading, seamless=seamless,
-                   albedo_method=settings.albedo_method,
+                   albedo_method=settings.albedo_method, detail_size=settings.detail_size,
                    threads=preferences.threads if preferences else 0)
     return Job(
         name=Path(source.name).stem or source.name,
@@ -234,8 +245,8 @@ def _output_settings(settings, context=None) -> dict:
     target = None  # the name of the object whose material gets the maps; None = a new object
     if settings.target == "ACTIVE_MATERIAL" and context is not None and context.active_object is not None:
         target = context.active_object.name
-    return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=settings.max_height,
-                density=settings.density, max_vertices=settings.max_vertices, displace=settings.output == "DISPLACE",
+    return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=_height_limit(settings),
+                density=_density(settings), max_vertices=settings.max_vertices, displace=settings.output == "DISPLACE",
                 normal_map=settings.normal_map, height_map=settings.height_map, target=target)
 
 

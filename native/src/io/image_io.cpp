@@ -284,8 +284,10 @@ void save_depth(const std::string& path, const ImageF& depth, const Mask& mask) 
   if (!mask.select(depth, 0.0f).allFinite()) throw InvalidArgument("save_depth: the depth is NaN or infinite inside the mask");
   const std::size_t pixel_count = std::size_t(depth.size());
 
+  // Y (grey) rather than Z: Blender reads a Y + A file as a grey image of the heights, and a Z + A
+  // one as black; OIIO and other readers take Y as the grey channel too.
   if (stores_floats(path)) {
-    const OIIO::ImageSpec spec = make_spec(depth.rows(), depth.cols(), OIIO::TypeDesc::FLOAT, {"Z", "A"}, true);
+    const OIIO::ImageSpec spec = make_spec(depth.rows(), depth.cols(), OIIO::TypeDesc::FLOAT, {"Y", "A"}, true);
     std::vector<float> pixels(pixel_count * 2);
     for (std::size_t i = 0; i < pixel_count; ++i) {
       const bool inside = mask.data()[i];
@@ -349,7 +351,7 @@ void save_normals(const std::string& path, const NormalMap& normals, const Mask&
   write_pixels(path, spec, OIIO::TypeDesc::UINT8, pixels.data());
 }
 
-void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
+void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask, int step) {
   const std::string extension = extension_of(path);
   if (extension != ".ply" && extension != ".obj") {
     throw InvalidArgument("save_mesh: \"" + path + "\" must end in .ply or .obj");
@@ -357,7 +359,7 @@ void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask) {
   require_path("save_mesh", path);
   require_image("save_mesh", depth.rows(), depth.cols());
   require_mask_shape("save_mesh", mask, depth.rows(), depth.cols());
-  const HeightFieldMesh mesh = height_field_mesh(depth, mask);
+  const HeightFieldMesh mesh = height_field_mesh(depth, mask, step);
   // Each quad (top-left a, bottom-left d, bottom-right e, top-right b) becomes the triangles a d b
   // and b d e, which keep its counter-clockwise turn as seen from +z.
   std::vector<Triangle> triangles;

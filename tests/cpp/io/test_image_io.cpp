@@ -439,6 +439,16 @@ TEST_F(ImageIO, MeshesHaveOneVertexPerPixelAndFaceTheViewer) {
   const Mesh ring_mesh = parse_binary_ply(read_file(path("ring.ply")));
   EXPECT_EQ(ring_mesh.vertices.size(), 8u);
   EXPECT_TRUE(ring_mesh.triangles.empty());
+
+  // Every second pixel: the corners, still at their pixels' positions and depths, joined by 2 triangles.
+  shadecut::save_mesh(path("coarse.ply"), depth, mask, 2);
+  const Mesh coarse = parse_binary_ply(read_file(path("coarse.ply")));
+  ASSERT_EQ(coarse.vertices.size(), 4u);
+  EXPECT_EQ(coarse.triangles.size(), 2u);
+  EXPECT_EQ(coarse.vertices[3][0], 2.0f);
+  EXPECT_EQ(coarse.vertices[3][1], -2.0f);
+  EXPECT_EQ(coarse.vertices[3][2], depth(2, 2));
+  EXPECT_THROW(shadecut::save_mesh(path("none.ply"), depth, mask, 0), InvalidArgument);
 }
 
 std::string contents(const std::string& path) {

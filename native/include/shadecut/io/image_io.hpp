@@ -56,8 +56,8 @@ void save_image(const std::string& path, const ImageF& image, const Mask* alpha 
 /// The same for linear RGB (channels R, G, B): an albedo's colour, for example.
 void save_image(const std::string& path, const ColourImage& image, const Mask* alpha = nullptr);
 
-/// Writes depth: .exr/.tif/.tiff as float values (channel Z in pixel units, 0 outside the mask, mask
-/// in alpha A); other formats (PNG) as 16-bit grey scaled from the masked min..max to 0..65535 (a
+/// Writes depth: .exr/.tif/.tiff as float values (grey channel Y in pixel units, 0 outside the mask,
+/// mask in alpha A: Blender and image viewers show it as a height image); other formats (PNG) as 16-bit grey scaled from the masked min..max to 0..65535 (a
 /// picture, not data; 0 outside the mask and everywhere if the masked depth is flat).
 void save_depth(const std::string& path, const ImageF& depth, const Mask& mask);
 
@@ -67,9 +67,10 @@ void save_depth(const std::string& path, const ImageF& depth, const Mask& mask);
 void save_normals(const std::string& path, const NormalMap& normals, const Mask& mask);
 
 /// Writes the height field as a triangle mesh, .ply (binary little endian) or .obj (text): one vertex
-/// per masked pixel at (x, y, z) = (c, -r, depth) in pixel units (camera frame), and two triangles for
-/// every 2 x 2 block of masked pixels, wound counter-clockwise as seen from the viewer (+z). Throws
-/// InvalidArgument for another extension, IoError when the file cannot be written.
-void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask);
+/// per masked pixel sampled every `step` pixels (height_field_mesh) at (x, y, z) = (c, -r, depth) in
+/// pixel units (camera frame), and two triangles for every 2 x 2 block of sampled masked pixels, wound
+/// counter-clockwise as seen from the viewer (+z). Throws InvalidArgument for another extension or
+/// step < 1, IoError when the file cannot be written.
+void save_mesh(const std::string& path, const ImageF& depth, const Mask& mask, int step = 1);
 
 }  // namespace shadecut
