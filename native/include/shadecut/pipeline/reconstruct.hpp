@@ -141,7 +141,7 @@ struct ReconstructOptions {
   double detail_scale_factor = 1.5;
   /// Reliefs: thin bright lines (bright_lines: narrower than this many pixels, brighter than their
   /// surroundings by paint_line_contrast) are paint, such as mortar, not slopes: filled from their
-  /// neighbours like shadows. < 2 = off. Tuned (scripts/tune_parameters.py --detail-size).
+  /// neighbours: read as shadows by every stage. < 2 = off. Tuned (scripts/tune_parameters.py --detail-size).
   int paint_line_width = 7;
   double paint_line_contrast = 2.0;
   int threads = 0;                          ///< 0 = all cores
