@@ -26,9 +26,8 @@ void check_paint_options(const ReconstructOptions& options) {
     throw InvalidArgument("shadecut: retinex_rim must be >= 0; got " + std::to_string(options.retinex_rim));
 }
 
-Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
-                                 const Mask* mask_in, std::optional<double> albedo, const ReconstructOptions& options) {
-  check_paint_options(options);
+Reconstruction reconstruct_masked(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
+                                  const Mask* mask_in, std::optional<double> albedo, const ReconstructOptions& options) {
   // Before the estimates, whose own complaint about a bad albedo ("the image is dark everywhere")
   // would name the wrong problem.
   if (albedo) check_albedo(*albedo);
@@ -54,6 +53,25 @@ Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour,
     result.albedo_map = result.mask.select(ImageF::Constant(image.rows(), image.cols(), float(result.albedo)), 0.0f);
   }
   if (colour) result.albedo_colour = reflectance_colour(image, *colour, result.mask, result.albedo_map);
+  return result;
+}
+
+// An object given without a mask is cut out of its background first (ReconstructOptions::cut_out).
+Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
+                                 const Mask* mask_in, std::optional<double> albedo, const ReconstructOptions& options) {
+  check_paint_options(options);
+  if (mask_in || options.scene != SceneKind::Object || !options.cut_out)
+    return reconstruct_masked(image, colour, light, mask_in, albedo, options);
+  const Stopwatch stopwatch;
+  const CutOut cut = cut_out(image, colour);
+  const double seconds = stopwatch.seconds();
+  Reconstruction result =
+      reconstruct_masked(image, colour, light, cut.outcome == CutOutOutcome::Found ? &cut.mask : nullptr, albedo, options);
+  result.stats.cut_out = cut.outcome;
+  result.stats.cut_out_contrast = cut.outline_contrast;
+  result.stats.cut_out_message = cut.message;
+  result.stats.seconds["cut_out"] = seconds;
+  result.stats.seconds["total"] += seconds;
   return result;
 }
 
