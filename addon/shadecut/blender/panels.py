@@ -22,6 +22,8 @@ def draw_reconstruct_settings(layout, settings) -> None:
     if settings.scene == "relief":
         column.prop(settings, "seamless")
     column.prop(settings, "image")
+    if settings.scene == "object":
+        column.prop(settings, "mask_image")
     column.prop(settings, "max_resolution")
 
     column = layout.column(heading="Light")
