@@ -101,9 +101,10 @@ def test_real_photo_of_an_object_on_black_is_cut_out():
     cut = shadecut.cut_out(image)
     assert cut.found, cut.message
     assert iou(cut.mask, truth) >= 0.97
-    result = shadecut.reconstruct(image[::2, ::2])
+    result = shadecut.reconstruct(image[::2, ::2])  # the disc reaches the top and bottom edges; the corners are black
     assert result.stats.cut_out == shadecut.CutOutOutcome.found
-    assert not result.mask[:3].any() and not result.mask[:, :3].any()
+    assert iou(result.mask, truth[::2, ::2]) >= 0.97
+    assert not result.mask[:20, :20].any() and not result.mask[-20:, -20:].any()
 
 
 def test_real_photo_on_a_wooden_table_has_no_plain_background():

@@ -26,7 +26,8 @@ constexpr double kOutlier = 3.0;        // standard deviations from the backgrou
 constexpr double kUniformShare = 0.01;  // of each model's density spread over the whole colour cube
 constexpr float kHard = 1e6f;           // a terminal capacity no cut pays
 
-// Display-encoded channels (values near [0, 1], gamma 1/2.2 of the linear image over its 99.5th
+// Display-encoded channels (values mostly in [0, 1], unclipped so that a bright graded background stays
+// smooth; gamma 1/2.2 of the linear image over its 99.5th
 // percentile): colour differences there are about as visible in the shadows as in the light, so
 // one noise level serves a whole background.
 struct Planes {
@@ -41,7 +42,7 @@ Planes normalized(const ImageF& intensity, const ColourImage* colour, float gamm
   std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(at), values.end());
   const float scale = values[at] > 0.0f ? values[at] : 1.0f;
   Planes planes{int(intensity.rows()), int(intensity.cols()), {}};
-  auto encoded = [scale, gamma](const ImageF& linear) { return (linear / scale).min(1.0f).pow(1.0f / gamma).eval(); };
+  auto encoded = [scale, gamma](const ImageF& linear) { return (linear / scale).pow(1.0f / gamma).eval(); };
   if (colour)
     for (const ImageF& channel : colour->channel) planes.channel.push_back(encoded(channel));
   else
@@ -372,8 +373,12 @@ CutOut cut_out(const ImageF& intensity, const ColourImage* colour, const CutOutO
   result.border_share = bg.inlier_share;
   if (result.background_noise > options.max_noise || result.border_share < options.min_border_share) {
     result.outcome = CutOutOutcome::BusyBorder;
-    result.message = "no plain background: " + percent(result.border_share) +
-                     " of the image's border fits one (a texture, or a surface filling the frame); give a mask, or take it for a relief";
+    result.message = "no plain background: " +
+                     (result.border_share < options.min_border_share
+                          ? "only " + percent(result.border_share) + " of the image's border fits one"
+                          : "the image's border varies " + std::to_string(int(std::lround(100.0 * result.background_noise))) +
+                                "% about its smooth fit") +
+                     " (a texture, or a surface filling the frame); give a mask, or take it for a relief";
     return result;
   }
 
@@ -388,6 +393,8 @@ CutOut cut_out(const ImageF& intensity, const ColourImage* colour, const CutOutO
     object = fill_holes(label(small, bg, learn_object(small, object), options.smoothness, nullptr, *solver));
   }
   object = drop_small_parts(object, std::max(1.0, min_pixels));
+  // Judged on the shrunk image, where a photograph's edge blurred over a few pixels is a step again.
+  result.outline_contrast = outline_contrast(object, deviation(small, bg), shrink(normalized(intensity, colour, 1.0f), factor));
   if (object.count() == 0) {
     result.outcome = CutOutOutcome::NoObject;
     result.message = "nothing stands apart from the plain background";
@@ -415,7 +422,6 @@ CutOut cut_out(const ImageF& intensity, const ColourImage* colour, const CutOutO
   Mask fine = label(full, bg, model, options.smoothness, &fixed, *solver);
   fine = drop_small_parts(fill_holes(fine), std::max(1.0, options.min_area * double(full.rows) * double(full.cols)));
   result.mask = fine;
-  result.outline_contrast = outline_contrast(fine, deviation(full, bg), normalized(intensity, colour, 1.0f));
   if (fine.count() == 0) {
     result.outcome = CutOutOutcome::NoObject;
     result.message = "nothing stands apart from the plain background";
