@@ -373,7 +373,7 @@ int main(int argc, char** argv) {
                             ratio_text(result.stats.inverted_residual, result.stats.orientation_residual) + " as far from it")
               << "\n";
     if (result.stats.cut_out == shadecut::CutOutOutcome::Found)
-      std::cout << "cut-out: " << result.stats.cut_out_message << "\n";
+      std::cout << result.stats.cut_out_message << "\n";
     else if (result.stats.cut_out != shadecut::CutOutOutcome::NotTried)
       std::cout << "cut-out: " << result.stats.cut_out_message
                 << "; so the whole image was reconstructed (give the image an alpha channel as its mask, or --scene relief "
