@@ -1,6 +1,7 @@
 // reconstruct(): the paint separated from the shading first when the albedo method reads it per pixel,
 // the shape then read from the shading image of one albedo.
 #include <shadecut/estimate/estimate_reflectance.hpp>
+#include <shadecut/pipeline/cut_out.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/validate.hpp>
@@ -62,6 +63,8 @@ Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour,
   check_paint_options(options);
   if (mask_in || options.scene != SceneKind::Object || !options.cut_out)
     return reconstruct_masked(image, colour, light, mask_in, albedo, options);
+  // The options and the memory first: a call refused for its size is refused at once, not after the cut.
+  detail::check_options(options, Mask::Constant(image.rows(), image.cols(), true));
   const Stopwatch stopwatch;
   const CutOut cut = cut_out(image, colour);
   const double seconds = stopwatch.seconds();
