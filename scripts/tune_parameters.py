@@ -40,7 +40,8 @@ paint separation, at 128 pixels unless --sizes says otherwise; --viscosity-weigh
 graphcut's viscosity_weight, every other option at its default, by the same score; --fit-smoothness
 only graphcut's fit_smoothness, with fit_shading on, by the same score; --light-method only the light
 estimator used for objects without a light, and the contour estimator's ring, by graphcut's score with
-the light estimated, the training surfaces rendered under their own light and one of slant 5 degrees).
+the light estimated, the training surfaces rendered under their own light and one of slant 5 degrees;
+--detail-size only the reliefs' detail_scale_factor, on training reliefs: see scripts/tune_reliefs.py).
 """
 
 from __future__ import annotations
@@ -345,7 +346,14 @@ def main() -> int:
     parser.add_argument("--light-method", action="store_true",
                         help="choose only the object light estimator (and the contour estimator's ring)")
     parser.add_argument("--retinex", action="store_true", help="tune only the paint separation (albedo_method retinex)")
+    parser.add_argument("--detail-size", action="store_true",
+                        help="choose only the reliefs' detail_scale_factor, on training reliefs (tune_reliefs.py)")
     args = parser.parse_args()
+    if args.detail_size:
+        from tune_reliefs import tune_detail_size
+
+        tune_detail_size()
+        return 0
     if args.light_method:
         tune_light_method({size: training_surfaces(size) for size in args.sizes})
         return 0

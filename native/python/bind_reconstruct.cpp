@@ -130,6 +130,8 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "fit_shading", &ReconstructOptions::fit_shading);
   option(options, names, "fit_smoothness", &ReconstructOptions::fit_smoothness);
   option(options, names, "seamless", &ReconstructOptions::seamless);
+  option(options, names, "detail_size", &ReconstructOptions::detail_size);
+  option(options, names, "detail_scale_factor", &ReconstructOptions::detail_scale_factor);
   option(options, names, "threads", &ReconstructOptions::threads);
   m.attr("OPTION_NAMES") = py::tuple(py::cast(names));
   m.attr("MIN_LABELS") = kMinLabels;
@@ -190,6 +192,7 @@ void bind_reconstruct(py::module_& m) {
       .def_readonly("maxflow_seconds", &ReconstructStats::maxflow_seconds)
       .def_readonly("allowed_label_fraction", &ReconstructStats::allowed_label_fraction)
       .def_readonly("shadow_pixels", &ReconstructStats::shadow_pixels)
+      .def_readonly("detail_size", &ReconstructStats::detail_size)
       .def_readonly("shading_residual_before", &ReconstructStats::shading_residual_before,
                     "fit_shading: sum of squared brightness residuals of the integrated depth")
       .def_readonly("shading_residual_after", &ReconstructStats::shading_residual_after,

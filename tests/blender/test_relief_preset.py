@@ -70,3 +70,13 @@ def test_object_is_not_flatter_than_relief(addon, tmp_path, size, light):
     print(f"{size} px, light {light}: height range / width: Relief {relief[1]:.4f} / {relief[0]:.3f} "
           f"= {relief[1] / relief[0]:.2%}, Object {whole[1]:.4f} / {whole[0]:.3f} = {whole[1] / whole[0]:.2%}")
     assert whole[1] / whole[0] >= relief[1] / relief[0]
+
+
+def test_detail_size_flattens_larger_forms(addon, tmp_path):
+    """A smaller Detail size takes more of the relief's forms away: the slab comes out flatter."""
+    addon.image = bricks_image(tmp_path, 256, (0.6, 0.3, 1.0))
+    assert addon.detail_size == 0.0  # Auto, the library's default
+    _, auto = reconstructed_extent(addon, "relief")
+    addon.detail_size = 4.0
+    _, fine = reconstructed_extent(addon, "relief")
+    assert fine < auto

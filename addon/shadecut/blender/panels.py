@@ -21,6 +21,11 @@ def draw_reconstruct_settings(layout, settings) -> None:
     column.row().prop(settings, "scene", expand=True)
     if settings.scene == "relief":
         column.prop(settings, "seamless")
+        if not settings.seamless:
+            if settings.detail_size == 0:
+                column.prop(settings, "detail_size", text="Detail size (Auto)")
+            else:
+                column.prop(settings, "detail_size")
     column.prop(settings, "image")
     if settings.scene == "object":
         column.prop(settings, "mask_image")

@@ -58,6 +58,12 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         description="Relief: a surface, height and normal map that tile (left edge meets right, top meets "
                     "bottom), for a repeating texture. The whole image is used, transparency too",
     )
+    detail_size: bpy.props.FloatProperty(
+        name="Detail size", default=DEFAULTS.detail_size, min=0.0, soft_max=512.0, subtype="PIXEL",
+        description="Relief: forms larger than this many pixels are carrier, not detail, and are flattened away "
+                    "(a wall's bow, a photo's uneven light). 0 = Auto: read from the image, about 1.5 times "
+                    "the size of its shading's detail",
+    )
     image: bpy.props.PointerProperty(
         name="Image", type=bpy.types.Image,
         description="The picture to turn into a surface; empty = the image open in the Image Editor, else the "

@@ -209,7 +209,7 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
                        settings.max_vertices)
     options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,
                    integrator=settings.integrator, fit_shading=settings.fit_shading, seamless=seamless,
-                   albedo_method=settings.albedo_method,
+                   albedo_method=settings.albedo_method, detail_size=settings.detail_size,
                    threads=preferences.threads if preferences else 0)
     return Job(
         name=Path(source.name).stem or source.name,

@@ -89,6 +89,25 @@ void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& cou
   stats.pulled_kept = pulled_residual < paper_residual;
 }
 
+// The detail size of a relief's call (ReconstructStats::detail_size): NaN for objects, seamless
+// output and detail_size < 0, and for a uniform image, which has no scale.
+double detail_size_used(const ImageF& image, const Mask& mask, const ReconstructOptions& options) {
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  if (options.scene != SceneKind::Relief || options.seamless || options.detail_size < 0.0) return none;
+  if (options.detail_size > 0.0) return options.detail_size;
+  const double size = options.detail_scale_factor * relief_scale(image, mask);
+  return std::isfinite(size) ? size : none;
+}
+
+// A relief made what a relief is: on a flat carrier facing the viewer, without the forms larger than
+// its detail (the integration's drift). Seamless output tiles as it is and is left alone.
+void finish_relief(ImageF& depth, NormalMap& normals, const Mask& mask, const ReconstructOptions& options,
+                   double detail_size) {
+  if (options.seamless || options.scene != SceneKind::Relief) return;
+  flatten_relief(depth, normals, mask);
+  if (std::isfinite(detail_size)) damp_large_forms(depth, normals, mask, detail_size);
+}
+
 // The orientation statistics of the result (ReconstructStats::orientation_residual, inverted_residual,
 // orientation_ambiguous): its depth rendered, and the surface of its normals turned by pi about the
 // light (n -> 2 (n . S) S - n, each normal's other one of the same brightness), made a surface as the
@@ -105,7 +124,7 @@ void judge_orientation(const ImageF& image, const Mask& unreliable, const LightF
   }
   Surface inverted = surface_from_normals(std::move(turned), mask, unreliable, edge_is_outline(options), options.integrator,
                                           options.seamless, options.max_slope);
-  if (!options.seamless && options.scene == SceneKind::Relief) flatten_relief(inverted.depth, inverted.normals, mask);
+  finish_relief(inverted.depth, inverted.normals, mask, options, result.stats.detail_size);
   const Mask counted = mask && !unreliable;
   auto residual = [&](const ImageF& depth) {
     return mean_brightness_residual(depth, image, mask, counted, frame.direction, result.albedo);
@@ -209,6 +228,10 @@ void detail::check_options(const ReconstructOptions& options, const Mask& mask) 
   if (!std::isfinite(options.highlight_threshold))
     throw InvalidArgument("shadecut: highlight_threshold must be finite (<= 0: never); got " +
                           number_text(options.highlight_threshold));
+  if (!std::isfinite(options.detail_size))
+    throw InvalidArgument("shadecut: detail_size must be finite (pixels; 0 = read from the image, < 0 = keep every form)");
+  if (!(options.detail_scale_factor > 0.0) || !std::isfinite(options.detail_scale_factor))
+    throw InvalidArgument("shadecut: detail_scale_factor must be finite and > 0; got " + number_text(options.detail_scale_factor));
   if (options.seamless && options.scene != SceneKind::Relief)
     throw InvalidArgument("shadecut: seamless output is for reliefs that fill the image; set scene to relief");
   if (options.seamless && !mask.all())
@@ -421,7 +444,8 @@ Reconstruction detail::reconstruct_shading(const ImageF& image, const std::optio
   } else {
     progress.report(1.0, "integration");
   }
-  if (!options.seamless && options.scene == SceneKind::Relief) flatten_relief(result.depth, result.normals, mask);
+  result.stats.detail_size = detail_size_used(image, mask, options);
+  finish_relief(result.depth, result.normals, mask, options, result.stats.detail_size);
   const Stopwatch orientation;
   judge_orientation(image, unreliable, frame, options, result);
   result.stats.seconds["orientation"] = orientation.seconds();

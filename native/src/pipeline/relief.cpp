@@ -6,10 +6,63 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <vector>
 
 namespace shadecut {
+
+namespace {
+
+using Field = Eigen::Array<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// A box of radius r along every row (step 1) or column (step cols) of a row-major field, the frame's
+// outside taken as zero: with the same box over the weights, normalized convolution.
+void box_pass(Field& field, int radius, bool along_rows) {
+  const Eigen::Index lines = along_rows ? field.rows() : field.cols();
+  const Eigen::Index length = along_rows ? field.cols() : field.rows();
+  const Eigen::Index stride = along_rows ? 1 : field.cols();
+  std::vector<double> line(static_cast<std::size_t>(length)), prefix(static_cast<std::size_t>(length) + 1);
+  for (Eigen::Index l = 0; l < lines; ++l) {
+    double* start = field.data() + (along_rows ? l * field.cols() : l);
+    for (Eigen::Index i = 0; i < length; ++i) prefix[std::size_t(i) + 1] = prefix[std::size_t(i)] + start[i * stride];
+    for (Eigen::Index i = 0; i < length; ++i) {
+      const Eigen::Index lo = std::max<Eigen::Index>(0, i - radius), hi = std::min<Eigen::Index>(length, i + radius + 1);
+      line[std::size_t(i)] = prefix[std::size_t(hi)] - prefix[std::size_t(lo)];
+    }
+    for (Eigen::Index i = 0; i < length; ++i) start[i * stride] = line[std::size_t(i)];
+  }
+}
+
+// The masked Gaussian blur of `values` (standard deviation sigma pixels): three boxes each way, whose
+// variance 3 (w^2 - 1) / 12 is sigma^2, over the values and over the mask, divided. 0 off the mask.
+Field masked_blur(const Field& values, const Mask& mask, double sigma) {
+  const double largest = double(std::max(mask.rows(), mask.cols()));
+  const int radius = int(std::lround((std::sqrt(4.0 * std::min(sigma, largest) * std::min(sigma, largest) + 1.0) - 1.0) / 2.0));
+  Field weights = mask.cast<double>().array();
+  Field blurred = weights * values;
+  for (Field* field : {&blurred, &weights})
+    for (int pass = 0; pass < 3; ++pass) {
+      box_pass(*field, radius, true);
+      box_pass(*field, radius, false);
+    }
+  return (weights > 0.0).select(blurred / weights.max(1e-300), 0.0) * mask.cast<double>().array();
+}
+
+// d/dx (x = column) and d/dy (y = -row) of `field` at (r, c) by central differences between masked
+// pixels, one-sided at the mask's edge; 0 where no neighbour is masked.
+Eigen::Vector2d masked_slope(const Field& field, const Mask& mask, Eigen::Index r, Eigen::Index c) {
+  auto difference = [&](Eigen::Index r0, Eigen::Index c0, Eigen::Index r1, Eigen::Index c1) {
+    const bool first = r0 >= 0 && c0 >= 0 && mask(r0, c0), second = r1 < mask.rows() && c1 < mask.cols() && mask(r1, c1);
+    if (first && second) return (field(r1, c1) - field(r0, c0)) / 2.0;
+    if (first) return field(r, c) - field(r0, c0);
+    if (second) return field(r1, c1) - field(r, c);
+    return 0.0;
+  };
+  return {difference(r, c - 1, r, c + 1), -difference(r - 1, c, r + 1, c)};
+}
+
+}  // namespace
 
 double median_intensity(const ImageF& image, const Mask& mask) {
   std::vector<float> values;
@@ -48,6 +101,44 @@ void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {
       auto n = normals.xyz.row(r * depth.cols() + c);
       if (!(n.z() > 0.0f)) continue;
       const double p = -n.x() / n.z() - plane.x(), q = -n.y() / n.z() - plane.y();
+      n = Eigen::Vector3f(float(-p), float(-q), 1.0f).normalized().transpose();
+    }
+  }
+  rebase_depth(depth, mask);
+}
+
+double relief_scale(const ImageF& image, const Mask& mask) {
+  const double floor = 1e-3 * median_intensity(image, mask);
+  Field logarithm = image.cast<double>().array().max(floor).log();
+  logarithm = masked_blur(logarithm, mask, 1.0);
+  double sum = 0.0, squares = 0.0, slopes = 0.0;
+  Eigen::Index count = 0;
+  for (Eigen::Index r = 0; r < image.rows(); ++r)
+    for (Eigen::Index c = 0; c < image.cols(); ++c) {
+      if (!mask(r, c)) continue;
+      sum += logarithm(r, c);
+      squares += logarithm(r, c) * logarithm(r, c);
+      slopes += masked_slope(logarithm, mask, r, c).squaredNorm();
+      ++count;
+    }
+  const double mean = sum / double(count);
+  const double variance = std::max(0.0, squares / double(count) - mean * mean);
+  // A uniform image has no scale (its blurred logarithm differs from a constant by rounding alone).
+  if (!(slopes / double(count) > 1e-12)) return std::numeric_limits<double>::infinity();
+  return 2.0 * M_PI * std::sqrt(variance / (slopes / double(count)));
+}
+
+void damp_large_forms(ImageF& depth, NormalMap& normals, const Mask& mask, double detail_size) {
+  if (!(detail_size > 0.0)) throw InvalidArgument("shadecut: the detail size must be > 0 pixels");
+  const Field low = masked_blur(depth.cast<double>().array(), mask, 0.187 * detail_size);
+  for (Eigen::Index r = 0; r < depth.rows(); ++r) {
+    for (Eigen::Index c = 0; c < depth.cols(); ++c) {
+      if (!mask(r, c)) continue;
+      depth(r, c) -= float(low(r, c));
+      auto n = normals.xyz.row(r * depth.cols() + c);
+      if (!(n.z() > 0.0f)) continue;
+      const Eigen::Vector2d slope = masked_slope(low, mask, r, c);
+      const double p = -n.x() / n.z() - slope.x(), q = -n.y() / n.z() - slope.y();
       n = Eigen::Vector3f(float(-p), float(-q), 1.0f).normalized().transpose();
     }
   }

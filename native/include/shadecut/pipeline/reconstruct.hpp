@@ -136,6 +136,14 @@ struct ReconstructOptions {
   /// (integrate_periodic, normals_from_periodic_depth), for seamless textures. Needs scene = Relief
   /// and no mask, or one that covers every pixel; the integrator setting is then not used.
   bool seamless = false;
+  /// Reliefs: forms larger than this many pixels are carrier, not detail, and are damped out of the
+  /// depth (damp_large_forms: half their height gone at this wavelength, nearly all at twice it);
+  /// 0 = detail_scale_factor times the relief's own scale (relief_scale, read from the image);
+  /// < 0 = keep every form (the least-squares plane alone is removed).
+  double detail_size = 0.0;
+  /// Reliefs with detail_size 0: the detail size in units of relief_scale. Tuned
+  /// (scripts/tune_parameters.py --detail-size, docs/parameters.md).
+  double detail_scale_factor = 1.5;
   int threads = 0;                          ///< 0 = all cores
   /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
   /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading". Returning false cancels.
@@ -159,6 +167,9 @@ struct ReconstructStats {
   double maxflow_seconds = 0.0;
   double allowed_label_fraction = 0.0;      ///< share of (pixel, label) pairs left after pruning
   int shadow_pixels = 0;                    ///< pixels whose normals were filled from their neighbours
+  /// reliefs: the detail size used (pixels; options.detail_size or the one read from the image);
+  /// NaN for objects and when every form is kept
+  double detail_size = std::numeric_limits<double>::quiet_NaN();
                                             ///< (attached shadows and highlights: fill_normals)
   /// viscosity_weight: the mean squared brightness residuals of the paper's labelling's integrated
   /// depth and of the pulled one's on which the choice was made (the returned depths' when the pulled

@@ -30,4 +30,24 @@ double relief_albedo(const ImageF& image, const Mask& mask, const Eigen::Vector3
 /// @param[in] mask        H x W.
 void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask);
 
+/// A relief's own scale, in pixels: the typical wavelength of its shading, 2 pi sqrt(var L / var grad L)
+/// of the log-intensity L (floored at 1/1000 of the median, blurred over about a pixel against
+/// noise), over the masked pixels: a single sinusoid of wavelength w gives w (skimage's brick
+/// photograph reads 18 px, its coins 36 px).
+/// @throws InvalidArgument for an empty mask or a relief dark in most of its pixels.
+double relief_scale(const ImageF& image, const Mask& mask);
+
+/// Damps the forms larger than `detail_size` pixels out of a relief's depth: subtracts its masked
+/// Gaussian blur (normalized convolution, so the mask's edge and the frame's do not pull the level)
+/// of standard deviation 0.187 detail_size, a high-pass that keeps half of a sinusoid of wavelength
+/// detail_size, a sixth of one twice as long and a twentieth at four times; tilts the normals by the blur's gradient to match;
+/// then every 4-connected component's minimum is 0 again. A drift of the integration (slopes read
+/// slightly wrong over a large area) is such a form; the detail is not.
+///
+/// @param[in,out] depth   H x W, pixel units (x = column, y = -row).
+/// @param[in,out] normals H x W camera-frame unit normals.
+/// @param[in] mask        H x W.
+/// @param[in] detail_size pixels, > 0.
+void damp_large_forms(ImageF& depth, NormalMap& normals, const Mask& mask, double detail_size);
+
 }  // namespace shadecut
