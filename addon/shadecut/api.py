@@ -41,6 +41,10 @@ Integrator = _core.Integrator
 LightMethod = _core.LightMethod
 AlbedoMethod = _core.AlbedoMethod
 SceneKind = _core.SceneKind
+CutOutOutcome = _core.CutOutOutcome
+CutOutOptions = _core.CutOutOptions
+CutOutOptions.__doc__ = """The settings of :func:`cut_out`, with their defaults (held in C++:
+``native/include/shadecut/pipeline/cut_out.hpp``; the meaning of each: docs/python_api.md)."""
 
 MIN_LABELS: int = _core.MIN_LABELS
 """The fewest tilt labels ``labels`` may be."""
@@ -134,6 +138,54 @@ def reconstruct(
     chosen = (options or ReconstructOptions()).replace(**overrides)
     return _core.reconstruct(_real(image), None if light is None else _vector3(light), _mask(mask), albedo,
                              chosen, progress)
+
+
+@dataclass
+class CutOut:
+    """The object found by :func:`cut_out`."""
+
+    mask: np.ndarray  # (H, W) bool: the object (its holes filled); the best guess when not found
+    outcome: CutOutOutcome  # found, busy_border, no_object or low_contrast
+    outline_contrast: float  # share of the mask's outline that differs from the background
+    background_noise: float  # the border's robust spread about its smooth fit (display-encoded units)
+    border_share: float  # share of the image's border that fits a plain background
+    message: str  # one sentence for the user
+
+    @property
+    def found(self) -> bool:
+        return self.outcome == CutOutOutcome.found
+
+
+def cut_out(image, options: Optional[CutOutOptions] = None, **overrides) -> CutOut:
+    """Cuts an object out of a plain background: the mask :func:`reconstruct` uses for
+    ``scene="object"`` when given no mask (its ``cut_out`` option).
+
+    Args:
+        image: (H, W) linear intensity or (H, W, 3) linear RGB, finite, >= 0, at least 2 x 2.
+        options: a :class:`CutOutOptions`; None = the defaults.
+        **overrides: its fields to change (``smoothness=20``).
+
+    Returns:
+        a :class:`CutOut`. ``outcome`` is ``found`` when an object stands apart from a plain (possibly
+        graded) background along most of its outline; ``busy_border`` when the image's border is no
+        plain background (a texture, a relief filling the frame); ``no_object`` when nothing does;
+        ``low_contrast`` when too little of the outline is seen (a dark background meeting the
+        object's shadow). Method: docs/method.md, "Cutting out".
+    """
+    chosen = options or CutOutOptions()
+    if overrides:
+        copy = CutOutOptions()
+        for name in dir(chosen):
+            if not name.startswith("_"):
+                setattr(copy, name, getattr(chosen, name))
+        for name, value in overrides.items():
+            if not hasattr(copy, name) or name.startswith("_"):
+                raise TypeError(f"shadecut: unknown cut-out option '{name}'")
+            setattr(copy, name, value)
+        chosen = copy
+    mask, outcome, contrast, noise, share, message = _core.cut_out(_real(image), chosen)
+    return CutOut(mask=mask, outcome=outcome, outline_contrast=float(contrast), background_noise=float(noise),
+                  border_share=float(share), message=message)
 
 
 def render(depth_or_normals, light: Sequence[float], albedo: float = 1.0, mask=None) -> np.ndarray:

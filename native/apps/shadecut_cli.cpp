@@ -58,6 +58,8 @@ options:
        << " for an object, " << estimator_for(shadecut::SceneKind::Relief) << R"( for a relief)
   --scene NAME         )" << choices(shadecut::scene_kind_names()) << " (default " << shadecut::to_string(defaults.scene) << R"(): an object seen
                        whole, or a relief filling the frame (a wall, a coin) that sits flat, no ramp
+  --no-cut-out         an object without alpha: reconstruct every pixel, not the object cut out of
+                       its background (default: cut out when a plain background is found)
   --seamless           with --scene relief: depth and normals that tile (a seamless texture)
   --out DIR            output folder (default shadecut_out)
   --method NAME        )" << choices(shadecut::method_names()) << " (default " << shadecut::to_string(defaults.method) << R"()
@@ -305,6 +307,8 @@ int main(int argc, char** argv) {
         options.threads = parse_integer(arg, value());
       } else if (arg == "--quiet") {
         quiet = true;
+      } else if (arg == "--no-cut-out") {
+        options.cut_out = false;
       } else if (arg == "--seamless") {
         options.seamless = true;
       } else if (arg == "--contour-weight") {
@@ -340,9 +344,11 @@ int main(int argc, char** argv) {
       return interrupted == 0;
     };
     const bool colour = input.colour.channel[0].size() > 0;
+    // Without alpha no mask is given: reconstruct() then cuts an object out of its background.
+    const shadecut::Mask* mask = input.has_alpha ? &input.mask : nullptr;
     shadecut::Reconstruction result =
-        colour ? shadecut::reconstruct(input.colour, light, &input.mask, albedo, options)
-               : shadecut::reconstruct(input.intensity, light, &input.mask, albedo, options);
+        colour ? shadecut::reconstruct(input.colour, light, mask, albedo, options)
+               : shadecut::reconstruct(input.intensity, light, mask, albedo, options);
     if (flip) shadecut::flip_surface(result.depth, result.normals, result.mask);
 
     const std::filesystem::path out(out_dir);
@@ -365,8 +371,14 @@ int main(int argc, char** argv) {
                       ? "ambiguous: its inversion explains the image about as well (the outline, or a relief's rule, chose); --flip gives it"
                       : "read from the image: its inversion renders " +
                             ratio_text(result.stats.inverted_residual, result.stats.orientation_residual) + " as far from it")
-              << "\n"
-              << "wrote " << output_names() << " to " << out.string() << "\n";
+              << "\n";
+    if (result.stats.cut_out == shadecut::CutOutOutcome::Found)
+      std::cout << result.stats.cut_out_message << "\n";
+    else if (result.stats.cut_out != shadecut::CutOutOutcome::NotTried)
+      std::cout << "cut-out: " << result.stats.cut_out_message
+                << "; so the whole image was reconstructed (give the image an alpha channel as its mask, or --scene relief "
+                   "for a surface filling the frame)\n";
+    std::cout << "wrote " << output_names() << " to " << out.string() << "\n";
     return 0;
   } catch (const Interrupted& e) {
     stop(e.what(), 128 + interrupted);

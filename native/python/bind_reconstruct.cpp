@@ -94,11 +94,13 @@ void bind_reconstruct(py::module_& m) {
   bind_enum<LightMethod>(m, "LightMethod", "Light estimators", light_method_names());
   bind_enum<SceneKind>(m, "SceneKind", "What the image shows", scene_kind_names());
   bind_enum<AlbedoMethod>(m, "AlbedoMethod", "Albedo estimators (one value, or per pixel: retinex)", albedo_method_names());
+  bind_enum<CutOutOutcome>(m, "CutOutOutcome", "How a cut-out ended (pipeline/cut_out.hpp)", cut_out_outcome_names());
 
   py::class_<ReconstructOptions> options(m, "ReconstructOptions",
                                          "Every setting of reconstruct() with its default (native/include/shadecut/reconstruct.hpp).");
   std::vector<std::string> names;
   enum_option(options, names, "scene", &ReconstructOptions::scene, &parse_scene_kind);
+  option(options, names, "cut_out", &ReconstructOptions::cut_out);
   enum_option(options, names, "method", &ReconstructOptions::method, &parse_method);
   option(options, names, "labels", &ReconstructOptions::labels);
   option(options, names, "data_weight", &ReconstructOptions::data_weight);
@@ -212,7 +214,13 @@ void bind_reconstruct(py::module_& m) {
                     "the same for its inversion (every normal turned by pi about the light, integrated)")
       .def_readonly("orientation_ambiguous", &ReconstructStats::orientation_ambiguous,
                     "whether the image explains the inversion nearly as well (inverted_residual < "
-                    "AMBIGUOUS_RESIDUAL_RATIO x orientation_residual): the priors chose the orientation");
+                    "AMBIGUOUS_RESIDUAL_RATIO x orientation_residual): the priors chose the orientation")
+      .def_readonly("cut_out", &ReconstructStats::cut_out,
+                    "cut_out: how the object's cut-out ended (not_tried, found, busy_border, no_object, low_contrast); "
+                    "the mask is the cut-out's only when found")
+      .def_readonly("cut_out_contrast", &ReconstructStats::cut_out_contrast,
+                    "the share of the cut-out's outline that differs from the background")
+      .def_readonly("cut_out_message", &ReconstructStats::cut_out_message, "the cut-out's sentence for the user");
 
   // The arrays are views of the result's own buffers, kept alive by it: no copy.
   py::class_<Reconstruction>(m, "Reconstruction", "The result of reconstruct().")

@@ -15,6 +15,7 @@
 #include <shadecut/support/light.hpp>
 #include <shadecut/support/intensity.hpp>
 #include <shadecut/support/mask_components.hpp>
+#include <shadecut/pipeline/cut_out.hpp>
 #include <shadecut/pipeline/flip_surface.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/render.hpp>
@@ -158,6 +159,38 @@ PYBIND11_MODULE(_core, m) {
   m.def("light_direction", [](const std::vector<double>& light) {
     const Eigen::Vector3d direction = shadecut::LightFrame::from_direction(to_vector3(light, "light")).direction;
     return py::array_t<double>(3, direction.data());
+  });
+
+  py::class_<shadecut::CutOutOptions>(m, "CutOutOptions", "The settings of cut_out() with their defaults (pipeline/cut_out.hpp).")
+      .def(py::init<>())
+      .def_readwrite("working_size", &shadecut::CutOutOptions::working_size)
+      .def_readwrite("border", &shadecut::CutOutOptions::border)
+      .def_readwrite("max_noise", &shadecut::CutOutOptions::max_noise)
+      .def_readwrite("min_border_share", &shadecut::CutOutOptions::min_border_share)
+      .def_readwrite("smoothness", &shadecut::CutOutOptions::smoothness)
+      .def_readwrite("iterations", &shadecut::CutOutOptions::iterations)
+      .def_readwrite("min_area", &shadecut::CutOutOptions::min_area)
+      .def_readwrite("min_outline_contrast", &shadecut::CutOutOptions::min_outline_contrast);
+
+  m.def("cut_out", [](const FloatArray& image, const shadecut::CutOutOptions& options) {
+    if (image.ndim() != 2 && image.ndim() != 3)
+      throw shadecut::InvalidArgument("shadecut: the image must be (H, W) intensity or (H, W, 3) RGB; got " +
+                                      std::to_string(image.ndim()) + " dimension(s)");
+    shadecut::CutOut cut;
+    if (image.ndim() == 3) {
+      const shadecut::ColourImage colour = to_colour(image, "image");
+      for (const ImageF& channel : colour.channel)
+        if (channel.minCoeff() < 0.0f) throw shadecut::InvalidArgument("shadecut: the image has negative values; linear RGB is >= 0");
+      const ImageF intensity = shadecut::luminance(colour);
+      py::gil_scoped_release release;
+      cut = shadecut::cut_out(intensity, &colour, options);
+    } else {
+      const ImageF intensity = to_image(image, "image");
+      py::gil_scoped_release release;
+      cut = shadecut::cut_out(intensity, nullptr, options);
+    }
+    return py::make_tuple(from_mask(cut.mask), cut.outcome, cut.outline_contrast, cut.background_noise, cut.border_share,
+                          cut.message);
   });
 
   m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });

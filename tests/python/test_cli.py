@@ -27,6 +27,22 @@ def test_reconstructs_a_png_with_alpha(tmp_path):
     np.testing.assert_array_equal(depth.mask, sphere.mask)  # the alpha channel was the mask
 
 
+def test_an_object_without_alpha_is_cut_out_of_its_background(tmp_path):
+    sphere = synthetic.sphere((0.3, 0.4, 0.866), size=96, albedo=0.8)
+    shadecut.save_image(tmp_path / "photo.png", np.where(sphere.mask, sphere.image, 1.0))  # no alpha
+    done = run(tmp_path / "photo.png", "--light", "0.3,0.4,0.866", "--out", tmp_path / "out", "--quiet")
+    assert done.returncode == 0, done.stderr
+    assert "cut out: " in done.stdout
+    np.testing.assert_array_equal(shadecut.load_image(tmp_path / "out" / "depth.exr").mask, sphere.mask)
+    whole = run(tmp_path / "photo.png", "--light", "0.3,0.4,0.866", "--out", tmp_path / "whole", "--quiet", "--no-cut-out")
+    assert whole.returncode == 0 and "cut out" not in whole.stdout
+    assert shadecut.load_image(tmp_path / "whole" / "depth.exr").mask.all()
+    rng = np.random.default_rng(0)
+    shadecut.save_image(tmp_path / "texture.png", rng.uniform(0.2, 0.9, (48, 48)))
+    busy = run(tmp_path / "texture.png", "--light", "0.3,0.4,0.866", "--out", tmp_path / "busy", "--quiet")
+    assert busy.returncode == 0 and "cut-out: no plain background" in busy.stdout and "--scene relief" in busy.stdout
+
+
 def test_without_a_light_it_estimates_one_and_says_which(tmp_path):
     sphere = synthetic.sphere((1.0, 0.0, 1.0), size=64, albedo=0.8)
     shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)

@@ -90,6 +90,35 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
     return np.concatenate(intensities), np.concatenate(masks), factor, np.concatenate(colours) if in_colour else None
 
 
+def picked_mask(mask_image: bpy.types.Image, source: bpy.types.Image, max_size: int) -> np.ndarray:
+    """The object's pixels (h, w) from the panel's Mask image at the working size of ``source``: its
+    alpha where it has transparency, else its pixels brighter than half its brightest (white = object)."""
+    if tuple(mask_image.size) != tuple(source.size):
+        raise InputError(f"Mask '{mask_image.name}' is {mask_image.size[0]} x {mask_image.size[1]} pixels and image "
+                         f"'{source.name}' {source.size[0]} x {source.size[1]}: the mask must be as large as the image")
+    intensity, alpha, _, _ = image_pixels(mask_image, max_size)
+    mask = alpha if not alpha.all() else intensity > 0.5 * float(intensity.max())
+    if not mask.any():
+        raise InputError(f"Mask '{mask_image.name}' marks no pixel: paint the object white (or opaque) on black")
+    return mask
+
+
+def show_mask(name: str, mask: np.ndarray) -> bpy.types.Image:
+    """The mask used, as the grey image '<name> mask' (white = reconstructed), made or replaced."""
+    title = f"{name} mask"
+    height, width = mask.shape
+    image = bpy.data.images.get(title)
+    if image is not None and tuple(image.size) != (width, height):
+        bpy.data.images.remove(image)
+        image = None
+    if image is None:
+        image = bpy.data.images.new(title, width, height, alpha=False)
+    value = np.ascontiguousarray(mask[::-1], dtype=np.float32)  # Blender keeps row 0 at the bottom
+    image.pixels.foreach_set(np.dstack([value, value, value, np.ones_like(value)]).ravel())
+    image.update()
+    return image
+
+
 def _rgba(pixels: np.ndarray) -> np.ndarray:
     """(rows, W, C) pixels of any channel count as contiguous RGBA: grey spread to R, G and B, opaque
     when there is no alpha."""

@@ -38,6 +38,8 @@ def draw_reconstruct_settings(layout, settings) -> None:
             else:
                 column.prop(settings, "detail_size")
     column.prop(settings, "image")
+    if settings.scene == "object":
+        column.prop(settings, "mask_image")
     column.prop(settings, "max_resolution")
 
     column = layout.column(heading="Light")

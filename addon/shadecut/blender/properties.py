@@ -70,6 +70,12 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
                     "image of the selected Image Texture node of the active object's material. "
                     "Its transparent parts, if any, are left out",
     )
+    mask_image: bpy.props.PointerProperty(
+        name="Mask", type=bpy.types.Image,
+        description="Object: the pixels to reconstruct, an image of the same size (its alpha where it has "
+                    "transparency, else white = the object); empty = the image's own alpha, or without one the "
+                    "object cut out of a plain background (shown as the image '<name> mask')",
+    )
     max_resolution: bpy.props.IntProperty(
         name="Max size", default=2048, min=0, soft_max=4096, subtype="PIXEL",
         description="A larger image shrinks by a whole factor until neither side exceeds this (0 = full size). "

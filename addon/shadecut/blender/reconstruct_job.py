@@ -16,7 +16,7 @@ import numpy as np
 from .. import api
 from .flip_operator import RESULT_PROPERTY, report_orientation
 from .frames import FrameError, light_in_camera_frame
-from .image_input import InputError, image_pixels, image_to_reconstruct
+from .image_input import InputError, image_pixels, image_to_reconstruct, picked_mask, show_mask
 from .preferences import addon_preferences
 from .mesh import MeshError
 from .result import TargetError, apply_maps, check_target, limited_depth_scale, result_object
@@ -35,7 +35,7 @@ class Job:
     name: str
     image: np.ndarray
     colour: Optional[np.ndarray]  # (H, W, 3) linear RGB of a colour image: paint told from shading
-    mask: np.ndarray
+    mask: Optional[np.ndarray]  # None = an object without alpha: cut out of its background by reconstruct()
     light: Optional[np.ndarray]  # None = estimate from the image
     light_origin: str  # how the finish report names the light: "estimated light", "light of Sun 'Sun'"
     albedo: Optional[float]
@@ -202,8 +202,6 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
             check_target(context.active_object, normal_map=settings.normal_map, height_map=settings.height_map)
         except TargetError as error:
             raise InputError(str(error)) from error
-    else:
-        _check_density(source.name, mask, _density(settings), settings.max_vertices)
     light, light_origin = _light(context, settings)
 
     preferences = addon_preferences(context)
@@ -213,6 +211,13 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
     seamless = settings.seamless and settings.scene == "relief"
     if seamless:
         mask = np.ones_like(mask)  # a tiling surface covers the whole image
+    elif settings.scene == "object" and settings.mask_image is not None:
+        mask = picked_mask(settings.mask_image, source, settings.max_resolution)
+    elif settings.scene == "object" and mask.all():
+        mask = None  # no alpha: reconstruct() cuts the object out of a plain background
+    if settings.target != "ACTIVE_MATERIAL":
+        _check_density(source.name, np.ones_like(image, dtype=bool) if mask is None else mask, _density(settings),
+                       settings.max_vertices)
     options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,
                    integrator=settings.integrator, fit_shading=settings.fit_shading, seamless=seamless,
                    albedo_method=settings.albedo_method, detail_size=settings.detail_size,
@@ -268,9 +273,22 @@ def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
     operator.report({"INFO"}, f"{maps.capitalize()} of image '{job.source_image.name}' applied to "
                               f"material '{material.name}' of '{obj.name}': {job.options['method']} in "
                               f"{time.perf_counter() - job.started:.1f} s, {job.light_origin} ({light}), "
-                              f"albedo {result.albedo:.3f}{job.shrunk}")
+                              f"albedo {result.albedo:.3f}{job.shrunk}{report_cut_out(operator, job)}")
     report_orientation(operator, result)
     return {"FINISHED"}
+
+
+def report_cut_out(operator, job: Job) -> str:
+    """What the finish report adds about a cut-out (the mask shown as the image '<name> mask'); a
+    warning when none was found, which says why and what to do."""
+    stats = job.result.stats
+    if stats.cut_out == api.CutOutOutcome.found:
+        return f", {stats.cut_out_message} (the mask: image '{show_mask(job.name, job.result.mask).name}')"
+    if stats.cut_out != api.CutOutOutcome.not_tried:
+        operator.report({"WARNING"}, f"No object cut out of image '{job.source_image.name}', which has no alpha: "
+                                     f"{stats.cut_out_message}. The whole image was reconstructed: pick a Mask image, "
+                                     "or set Subject to Relief for a surface that fills the frame")
+    return ""
 
 
 def discard_job(job: Job) -> None:
@@ -322,7 +340,8 @@ def finish_job(operator, context, job: Job) -> set[str]:
     source = f"image '{job.source_image.name}' from {job.image_origin}, " if job.image_origin else ""
     operator.report({"INFO"}, f"'{obj.name}': {source}{job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
                               f"{job.light_origin} ({light}), albedo {result.albedo:.3f}, "
-                              f"{len(obj.data.vertices):,} vertices (density {step}){job.shrunk}")
+                              f"{len(obj.data.vertices):,} vertices (density {step}){job.shrunk}"
+                              f"{report_cut_out(operator, job)}")
     obj[RESULT_PROPERTY] = True
     report_orientation(operator, result)
     return {"FINISHED"}

@@ -1,6 +1,7 @@
 // reconstruct(): the paint separated from the shading first when the albedo method reads it per pixel,
 // the shape then read from the shading image of one albedo.
 #include <shadecut/estimate/estimate_reflectance.hpp>
+#include <shadecut/pipeline/cut_out.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/validate.hpp>
@@ -26,9 +27,8 @@ void check_paint_options(const ReconstructOptions& options) {
     throw InvalidArgument("shadecut: retinex_rim must be >= 0; got " + std::to_string(options.retinex_rim));
 }
 
-Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
-                                 const Mask* mask_in, std::optional<double> albedo, const ReconstructOptions& options) {
-  check_paint_options(options);
+Reconstruction reconstruct_masked(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
+                                  const Mask* mask_in, std::optional<double> albedo, const ReconstructOptions& options) {
   // Before the estimates, whose own complaint about a bad albedo ("the image is dark everywhere")
   // would name the wrong problem.
   if (albedo) check_albedo(*albedo);
@@ -54,6 +54,27 @@ Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour,
     result.albedo_map = result.mask.select(ImageF::Constant(image.rows(), image.cols(), float(result.albedo)), 0.0f);
   }
   if (colour) result.albedo_colour = reflectance_colour(image, *colour, result.mask, result.albedo_map);
+  return result;
+}
+
+// An object given without a mask is cut out of its background first (ReconstructOptions::cut_out).
+Reconstruction reconstruct_image(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
+                                 const Mask* mask_in, std::optional<double> albedo, const ReconstructOptions& options) {
+  check_paint_options(options);
+  if (mask_in || options.scene != SceneKind::Object || !options.cut_out)
+    return reconstruct_masked(image, colour, light, mask_in, albedo, options);
+  // The options and the memory first: a call refused for its size is refused at once, not after the cut.
+  detail::check_options(options, Mask::Constant(image.rows(), image.cols(), true));
+  const Stopwatch stopwatch;
+  const CutOut cut = cut_out(image, colour);
+  const double seconds = stopwatch.seconds();
+  Reconstruction result =
+      reconstruct_masked(image, colour, light, cut.outcome == CutOutOutcome::Found ? &cut.mask : nullptr, albedo, options);
+  result.stats.cut_out = cut.outcome;
+  result.stats.cut_out_contrast = cut.outline_contrast;
+  result.stats.cut_out_message = cut.message;
+  result.stats.seconds["cut_out"] = seconds;
+  result.stats.seconds["total"] += seconds;
   return result;
 }
 

@@ -397,15 +397,21 @@ MethodDefaults method_defaults(Method method) {
   throw InvalidArgument("shadecut: unknown method");
 }
 
-Reconstruction detail::reconstruct_shading(const ImageF& image, const std::optional<Eigen::Vector3d>& light,
+Reconstruction detail::reconstruct_shading(const ImageF& input, const std::optional<Eigen::Vector3d>& light,
                                            const Mask* mask_in, std::optional<double> albedo,
                                            const ReconstructOptions& options) {
   const Stopwatch total;
-  check_image(image);
-  const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);
-  check_mask(mask, image);
-  if (image.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
+  check_image(input);
+  const Mask mask = mask_in ? *mask_in : Mask::Constant(input.rows(), input.cols(), true);
+  check_mask(mask, input);
+  if (input.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
   detail::check_options(options, mask);
+  // A relief's thin bright lines are paint (bright_lines): the image says nothing of the slope there,
+  // as in a shadow, and every stage reads them as one (light, albedo, normals, the fill).
+  const ImageF image =
+      options.scene == SceneKind::Relief
+          ? bright_lines(input, mask, options.paint_line_width, options.paint_line_contrast).select(ImageF::Zero(input.rows(), input.cols()), input)
+          : input;
   // Cheap, and before the estimates that cost a pass of median filtering over the image.
   const float brightest = mask.select(image, 0.0f).maxCoeff();
   if (!(brightest > 0.0f))
@@ -416,10 +422,8 @@ Reconstruction detail::reconstruct_shading(const ImageF& image, const std::optio
   result.mask = mask;
   const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
   const detail::ThreadCountScope threads(options.threads);
-  Mask unreliable =
+  const Mask unreliable =
       unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), options.highlight_threshold);
-  if (options.scene == SceneKind::Relief)
-    unreliable = unreliable || bright_lines(image, mask, options.paint_line_width, options.paint_line_contrast);
   // The normals, then their integration, in [begin, end] of the call.
   auto surface_of = [&](const ReconstructOptions& solved, double begin, double split, double end, ReconstructStats& stats) {
     NormalMap normals = solve_normals(image, mask, frame, result.albedo, solved, progress.range(begin, split), stats);

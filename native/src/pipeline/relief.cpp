@@ -100,6 +100,8 @@ Mask bright_lines(const ImageF& image, const Mask& mask, int width, double contr
   for (Eigen::Index r = 0; r < image.rows(); ++r)
     for (Eigen::Index c = 0; c < image.cols(); ++c)
       lines(r, c) = mask(r, c) && opening(r, c) != unset && logarithm(r, c) - opening(r, c) > step;
+  const Eigen::Index marked = lines.count(), black = (mask && image.array() <= 0.0f).count();
+  if (4 * marked > mask.count() || 2 * (marked + black) >= mask.count()) lines.setConstant(false);
   return lines;
 }
 

@@ -87,6 +87,12 @@ TEST(BrightLines, MarksAThinBrightLineNotABrightFaceOrASlope) {
   EXPECT_EQ(bright_lines(image, mask, 0, 2.0).count(), 0);   // off
   EXPECT_EQ(bright_lines(image, mask, 7, 4.0).count(), 0);   // not that much brighter
   EXPECT_THROW(bright_lines(image, mask, 7, 1.0), InvalidArgument);
+  ImageF ridges = ImageF::Constant(64, 64, 0.3f);
+  for (int c = 0; c < 64; c += 3) ridges.col(c).setConstant(0.9f);  // a third of the pixels: texture
+  EXPECT_EQ(bright_lines(ridges, mask, 7, 2.0).count(), 0);
+  ImageF shadowed = image;
+  shadowed.topRows(34).setZero();  // with the line's 30 lit pixels, half the relief would be black
+  EXPECT_EQ(bright_lines(shadowed, mask, 7, 2.0).count(), 0);
 }
 
 TEST(BrightLines, IgnoresWhatLiesOutsideTheMask) {

@@ -6,6 +6,7 @@
 #include <shadecut/estimate/estimate_reflectance.hpp>
 #include <shadecut/graphcut/global_step.hpp>
 #include <shadecut/integrate/integrate.hpp>
+#include <shadecut/pipeline/cut_out.hpp>
 #include <shadecut/refine/fit_shading.hpp>
 #include <shadecut/support/progress.hpp>
 #include <shadecut/support/types.hpp>
@@ -68,6 +69,10 @@ constexpr int kMaxThreads = 256;
 /// are scaled to the object's size by unary_scale (local_shape.hpp).
 struct ReconstructOptions {
   SceneKind scene = SceneKind::Object;
+  /// scene = Object with no mask given: cut the object out of a plain background (cut_out.hpp, its
+  /// default CutOutOptions) and reconstruct it alone when one is found (CutOutOutcome::Found);
+  /// otherwise, and when off, every pixel. ReconstructStats::cut_out says what happened.
+  bool cut_out = true;
   Method method = Method::GraphCut;
   int labels = 36;                          ///< K tilt labels
   /// lambda of eq. (15) for an object of kReferenceObjectSize pixels, tuned (graphcut only).
@@ -141,7 +146,7 @@ struct ReconstructOptions {
   double detail_scale_factor = 1.5;
   /// Reliefs: thin bright lines (bright_lines: narrower than this many pixels, brighter than their
   /// surroundings by paint_line_contrast) are paint, such as mortar, not slopes: filled from their
-  /// neighbours like shadows. < 2 = off. Tuned (scripts/tune_parameters.py --detail-size).
+  /// neighbours: read as shadows by every stage. < 2 = off. Tuned (scripts/tune_parameters.py --detail-size).
   int paint_line_width = 7;
   double paint_line_contrast = 2.0;
   int threads = 0;                          ///< 0 = all cores
@@ -199,6 +204,11 @@ struct ReconstructStats {
   double shading_residual_before = 0.0;
   double shading_residual_after = 0.0;
   int fit_steps = 0;
+  /// ReconstructOptions::cut_out: how the cut-out ended (not_tried when it did not run; the mask is
+  /// the cut-out's only when found), its CutOut::outline_contrast and its sentence for the user.
+  CutOutOutcome cut_out = CutOutOutcome::NotTried;
+  double cut_out_contrast = 0.0;
+  std::string cut_out_message;
 };
 
 struct Reconstruction {

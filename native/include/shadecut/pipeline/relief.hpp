@@ -42,6 +42,9 @@ double relief_scale(const ImageF& image, const Mask& mask);
 /// `width` pixels, among the masked pixels) by more than log(contrast): it is brighter by that
 /// factor than the darkest of its surroundings in every square holding it, so the structure is
 /// narrower than `width`. A sloped face of a relief brightens gradually; a line of paint steps.
+/// No pixel is marked when the lines cover more than a quarter of the masked pixels (they are the
+/// relief's own texture, every crest of a field of ridges, not paint on it), nor when with the black
+/// pixels (shadows) they would cover half (the relief's median pixel, its albedo, would be black).
 ///
 /// @param[in] image    H x W linear intensity.
 /// @param[in] mask     H x W.
