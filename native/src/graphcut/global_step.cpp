@@ -7,6 +7,7 @@
 #include <shadecut/integrate/surface_from_normals.hpp>
 #include <shadecut/baselines/upwind.hpp>
 
+#include "support/parallel.hpp"
 #include "support/stopwatch.hpp"
 
 #include <algorithm>
@@ -145,7 +146,7 @@ std::vector<float> upsampled_tilts(const GlobalStepResult& coarse, const Mask& c
                                  : Eigen::Vector2d(std::cos(label_tilt), std::sin(label_tilt));
   }
   std::vector<float> tilts(std::size_t(rows) * cols, std::numeric_limits<float>::quiet_NaN());
-  for (int r = 0; r < rows; ++r) {
+  detail::parallel_for(rows, 8, detail::default_thread_count(), [&](int r) {
     for (int c = 0; c < cols; ++c) {
       const std::size_t p = std::size_t(r) * cols + c;
       if (!frozen[p] || centre[p] < 0) continue;
@@ -168,7 +169,7 @@ std::vector<float> upsampled_tilts(const GlobalStepResult& coarse, const Mask& c
       // neighbours' tilts cancel it, which one label step apart they cannot.
       if (sum.norm() > 1e-9) tilts[p] = float(std::atan2(sum.y(), sum.x()));
     }
-  }
+  });
   return tilts;
 }
 
