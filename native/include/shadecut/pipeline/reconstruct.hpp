@@ -148,7 +148,7 @@ struct ReconstructOptions {
   /// surroundings by paint_line_contrast) are paint, such as mortar, not slopes: filled from their
   /// neighbours: read as shadows by every stage. < 2 = off. Tuned (scripts/tune_parameters.py --detail-size).
   int paint_line_width = 7;
-  double paint_line_contrast = 2.0;
+  double paint_line_contrast = 2.5;
   int threads = 0;                          ///< 0 = all cores
   /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
   /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading". Returning false cancels.
