@@ -62,26 +62,21 @@ Eigen::Vector2d masked_slope(const Field& field, const Mask& mask, Eigen::Index 
   return {difference(r, c - 1, r, c + 1), -difference(r - 1, c, r + 1, c)};
 }
 
-// The minimum (erode) or maximum (dilate) over the squares of `width` pixels holding each pixel's
-// window, separably, among the entries that are not `ignored`; `ignored` where none is.
-Field square_extreme(const Field& field, int width, bool minimum, double ignored) {
-  Field result = field;
-  const int before = (width - 1) / 2, after = width - 1 - before;
-  for (const bool along_rows : {true, false}) {
-    const Field source = result;
-    const Eigen::Index lines = along_rows ? source.rows() : source.cols(), length = along_rows ? source.cols() : source.rows();
-    for (Eigen::Index l = 0; l < lines; ++l)
-      for (Eigen::Index i = 0; i < length; ++i) {
-        double best = ignored;
-        for (Eigen::Index j = std::max<Eigen::Index>(0, i - before); j <= std::min<Eigen::Index>(length - 1, i + after); ++j) {
-          const double value = along_rows ? source(l, j) : source(j, l);
-          if (value == ignored) continue;
-          if (best == ignored || (minimum ? value < best : value > best)) best = value;
-        }
-        (along_rows ? result(l, i) : result(i, l)) = best;
-      }
+// Whether the pixel (r, c) stands above both of its sides along (dr, dc) by more than `step` in
+// log-intensity: the darkest masked pixel among the `reach` before it and among the `reach` after
+// it are both that much darker. A side with no masked pixel does not qualify.
+bool above_both_sides(const Field& logarithm, const Mask& mask, Eigen::Index r, Eigen::Index c, int dr, int dc, int reach,
+                      double step) {
+  for (const int sign : {-1, 1}) {
+    double darkest = std::numeric_limits<double>::infinity();
+    for (int k = 1; k <= reach; ++k) {
+      const Eigen::Index rr = r + sign * k * dr, cc = c + sign * k * dc;
+      if (rr < 0 || cc < 0 || rr >= mask.rows() || cc >= mask.cols() || !mask(rr, cc)) continue;
+      darkest = std::min(darkest, logarithm(rr, cc));
+    }
+    if (!(logarithm(r, c) - darkest > step)) return false;
   }
-  return result;
+  return true;
 }
 
 }  // namespace
@@ -90,16 +85,13 @@ Mask bright_lines(const ImageF& image, const Mask& mask, int width, double contr
   if (!(contrast > 1.0)) throw InvalidArgument("shadecut: a bright line's contrast must be > 1; got " + std::to_string(contrast));
   Mask lines = Mask::Constant(image.rows(), image.cols(), false);
   if (width < 2) return lines;
-  const double unset = std::numeric_limits<double>::infinity();
-  const double floor = 1e-6;
-  Field logarithm = (image.cast<double>().array().max(floor)).log();
-  logarithm = mask.select(logarithm, unset);
-  // Erosion ignores the unmasked pixels (+inf); the opening's dilation ignores what erosion left +inf.
-  const Field opening = square_extreme(square_extreme(logarithm, width, true, unset), width, false, unset);
+  const Field logarithm = (image.cast<double>().array().max(1e-6)).log();
   const double step = std::log(contrast);
+  const int reach = width / 2;
   for (Eigen::Index r = 0; r < image.rows(); ++r)
     for (Eigen::Index c = 0; c < image.cols(); ++c)
-      lines(r, c) = mask(r, c) && opening(r, c) != unset && logarithm(r, c) - opening(r, c) > step;
+      lines(r, c) = mask(r, c) && (above_both_sides(logarithm, mask, r, c, 0, 1, reach, step) ||
+                                   above_both_sides(logarithm, mask, r, c, 1, 0, reach, step));
   const Eigen::Index marked = lines.count(), black = (mask && image.array() <= 0.0f).count();
   if (4 * marked > mask.count() || 2 * (marked + black) >= mask.count()) lines.setConstant(false);
   return lines;

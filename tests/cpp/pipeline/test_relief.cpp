@@ -95,6 +95,15 @@ TEST(BrightLines, MarksAThinBrightLineNotABrightFaceOrASlope) {
   EXPECT_EQ(bright_lines(shadowed, mask, 7, 2.0).count(), 0);
 }
 
+TEST(BrightLines, LeavesALitBevelBesideItsShadow) {
+  // A groove lit from the left, as shading draws it: flat 0.6, the bevel facing the light 1.0, the
+  // one facing away black, flat again. The lit bevel stands above the shadow but not above its top.
+  ImageF image = ImageF::Constant(32, 32, 0.6f);
+  image.middleCols(14, 2).setConstant(1.0f);
+  image.middleCols(16, 2).setConstant(0.0f);
+  EXPECT_EQ(bright_lines(image, Mask::Constant(32, 32, true), 7, 2.0).count(), 0);
+}
+
 TEST(BrightLines, IgnoresWhatLiesOutsideTheMask) {
   // A bright square in a dark frame: inside the mask it is a face, not a line, although the dark
   // pixels outside would make its edge look like one.

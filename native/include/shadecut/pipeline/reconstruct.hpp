@@ -144,8 +144,8 @@ struct ReconstructOptions {
   /// Reliefs with detail_size 0: the detail size in units of relief_scale. Tuned
   /// (scripts/tune_parameters.py --detail-size, docs/parameters.md).
   double detail_scale_factor = 1.5;
-  /// Reliefs: thin bright lines (bright_lines: narrower than this many pixels, brighter than their
-  /// surroundings by paint_line_contrast) are paint, such as mortar, not slopes: filled from their
+  /// Reliefs: thin bright lines (bright_lines: narrower than this many pixels, brighter than both
+  /// their sides by paint_line_contrast) are paint, such as mortar, not slopes: filled from their
   /// neighbours: read as shadows by every stage. < 2 = off. Tuned (scripts/tune_parameters.py --detail-size).
   int paint_line_width = 7;
   double paint_line_contrast = 2.5;

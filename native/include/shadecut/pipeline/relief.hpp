@@ -38,10 +38,10 @@ void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask);
 double relief_scale(const ImageF& image, const Mask& mask);
 
 /// The pixels of a relief's thin bright lines, which shading does not draw: paint such as a brick
-/// wall's mortar. A pixel is on one when its log-intensity exceeds its grey opening (over squares of
-/// `width` pixels, among the masked pixels) by more than log(contrast): it is brighter by that
-/// factor than the darkest of its surroundings in every square holding it, so the structure is
-/// narrower than `width`. A sloped face of a relief brightens gradually; a line of paint steps.
+/// wall's mortar. A pixel is on one when, across a row or down a column, the darkest pixel on each
+/// side within width / 2 is darker than it by more than the factor `contrast`: a line narrower than
+/// `width` standing above both its sides. Shading draws a bright bevel beside a shadow, but a lit
+/// bevel stands above one side only (its flat top is nearly as bright), so it is not marked.
 /// No pixel is marked when the lines cover more than a quarter of the masked pixels (they are the
 /// relief's own texture, every crest of a field of ridges, not paint on it), nor when with the black
 /// pixels (shadows) they would cover half (the relief's median pixel, its albedo, would be black).
