@@ -18,21 +18,18 @@ import numpy as np
 import shadecut
 from shadecut import synthetic_reliefs
 from shadecut.evaluation.relief_metrics import relief_figures
+from shadecut.imaging import srgb_to_linear
 
 TEST_LIGHTS = ((0.5, 0.6, 1.0), (-0.8, 0.2, 1.0), (0.1, -0.9, 0.8))
 PHOTOS = ("brick", "gravel", "grass", "coins")
 RAKING_LIGHT = (-1.0, 1.0, 0.6)
 
 
-def linear(srgb_bytes: np.ndarray) -> np.ndarray:
-    x = srgb_bytes.astype(np.float64) / 255.0
-    return np.where(x <= 0.04045, x / 12.92, ((x + 0.055) / 1.055) ** 2.4).astype(np.float32)
-
-
 def photo(name: str) -> np.ndarray:
+    """skimage's CC0 photograph ``name`` as linear intensity."""
     import skimage.data
 
-    return linear(getattr(skimage.data, name)())
+    return srgb_to_linear(getattr(skimage.data, name)() / 255.0)
 
 
 def relief_test_figures(**options) -> dict:

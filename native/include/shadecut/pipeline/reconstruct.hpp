@@ -147,8 +147,8 @@ struct ReconstructOptions {
   /// Reliefs: thin bright lines (bright_lines: narrower than this many pixels, brighter than both
   /// their sides by paint_line_contrast) are paint, such as mortar, not slopes: filled from their
   /// neighbours: read as shadows by every stage. < 2 = off. Tuned (scripts/tune_parameters.py --detail-size).
-  int paint_line_width = 7;
-  double paint_line_contrast = 2.5;
+  int paint_line_width = 9;
+  double paint_line_contrast = 2.0;
   int threads = 0;                          ///< 0 = all cores
   /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
   /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading". Returning false cancels.
