@@ -5,6 +5,7 @@
 #include <shadecut/graphcut/maxflow.hpp>
 #include <shadecut/pipeline/cut_out.hpp>
 #include <shadecut/support/errors.hpp>
+#include <shadecut/support/mask_components.hpp>
 #include <shadecut/support/validate.hpp>
 
 #include "support/enum_names.hpp"
@@ -14,7 +15,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <deque>
 #include <limits>
 
 namespace shadecut {
@@ -251,44 +251,32 @@ Mask label(const Planes& p, const Background& bg, const Histogram& object, doubl
 // The background's pixels that reach the image's border (4-connected): the others are holes of
 // the object (a highlight as bright as the background) and join it.
 Mask fill_holes(const Mask& object) {
-  const int rows = int(object.rows()), cols = int(object.cols());
-  Mask outside = Mask::Constant(rows, cols, false);
-  std::deque<int> queue;
-  auto visit = [&](int r, int c) {
-    if (r < 0 || c < 0 || r >= rows || c >= cols || object(r, c) || outside(r, c)) return;
-    outside(r, c) = true;
-    queue.push_back(r * cols + c);
+  const MaskComponents background = mask_components(!object);
+  const Eigen::Index rows = object.rows(), cols = object.cols();
+  std::vector<std::uint8_t> reaches_border(std::size_t(background.count), 0);
+  auto mark = [&](Eigen::Index r, Eigen::Index c) {
+    if (background.labels(r, c) >= 0) reaches_border[std::size_t(background.labels(r, c))] = 1;
   };
-  for (int r = 0; r < rows; ++r) visit(r, 0), visit(r, cols - 1);
-  for (int c = 0; c < cols; ++c) visit(0, c), visit(rows - 1, c);
-  while (!queue.empty()) {
-    const int i = queue.front(), r = i / cols, c = i % cols;
-    queue.pop_front();
-    visit(r - 1, c), visit(r + 1, c), visit(r, c - 1), visit(r, c + 1);
+  for (Eigen::Index r = 0; r < rows; ++r) mark(r, 0), mark(r, cols - 1);
+  for (Eigen::Index c = 0; c < cols; ++c) mark(0, c), mark(rows - 1, c);
+  Mask filled = object;
+  for (Eigen::Index i = 0; i < filled.size(); ++i) {
+    const std::int32_t part = background.labels.data()[i];
+    if (part >= 0 && !reaches_border[std::size_t(part)]) filled.data()[i] = true;
   }
-  return !outside;
+  return filled;
 }
 
 // The object without its 4-connected parts smaller than min_pixels.
 Mask drop_small_parts(const Mask& object, double min_pixels) {
-  const int rows = int(object.rows()), cols = int(object.cols());
-  Mask kept = Mask::Constant(rows, cols, false), seen = Mask::Constant(rows, cols, false);
-  std::vector<int> part;
-  for (int start = 0; start < rows * cols; ++start) {
-    if (!object.data()[start] || seen.data()[start]) continue;
-    part.assign(1, start);
-    seen.data()[start] = true;
-    for (std::size_t k = 0; k < part.size(); ++k) {
-      const int r = part[k] / cols, c = part[k] % cols;
-      const int next[4][2] = {{r - 1, c}, {r + 1, c}, {r, c - 1}, {r, c + 1}};
-      for (const auto& n : next)
-        if (n[0] >= 0 && n[1] >= 0 && n[0] < rows && n[1] < cols && object(n[0], n[1]) && !seen(n[0], n[1])) {
-          seen(n[0], n[1]) = true;
-          part.push_back(n[0] * cols + n[1]);
-        }
-    }
-    if (double(part.size()) >= min_pixels)
-      for (const int i : part) kept.data()[i] = true;
+  const MaskComponents parts = mask_components(object);
+  std::vector<std::int64_t> size(std::size_t(parts.count), 0);
+  for (Eigen::Index i = 0; i < parts.labels.size(); ++i)
+    if (parts.labels.data()[i] >= 0) ++size[std::size_t(parts.labels.data()[i])];
+  Mask kept = Mask::Constant(object.rows(), object.cols(), false);
+  for (Eigen::Index i = 0; i < kept.size(); ++i) {
+    const std::int32_t part = parts.labels.data()[i];
+    kept.data()[i] = part >= 0 && double(size[std::size_t(part)]) >= min_pixels;
   }
   return kept;
 }
