@@ -3,6 +3,8 @@
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/rebase_depth.hpp>
 
+#include "support/masked_gradient.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -49,17 +51,12 @@ Field masked_blur(const Field& values, const Mask& mask, double sigma) {
   return (weights > 0.0).select(blurred / weights.max(1e-300), 0.0) * mask.cast<double>().array();
 }
 
-// d/dx (x = column) and d/dy (y = -row) of `field` at (r, c) by central differences between masked
-// pixels, one-sided at the mask's edge; 0 where no neighbour is masked.
-Eigen::Vector2d masked_slope(const Field& field, const Mask& mask, Eigen::Index r, Eigen::Index c) {
-  auto difference = [&](Eigen::Index r0, Eigen::Index c0, Eigen::Index r1, Eigen::Index c1) {
-    const bool first = r0 >= 0 && c0 >= 0 && mask(r0, c0), second = r1 < mask.rows() && c1 < mask.cols() && mask(r1, c1);
-    if (first && second) return (field(r1, c1) - field(r0, c0)) / 2.0;
-    if (first) return field(r, c) - field(r0, c0);
-    if (second) return field(r1, c1) - field(r, c);
-    return 0.0;
-  };
-  return {difference(r, c - 1, r, c + 1), -difference(r - 1, c, r + 1, c)};
+// The normal turned as the surface is when the plane z = a x + b y is subtracted from it: its
+// gradient (p, q) = (-n_x / n_z, -n_y / n_z) becomes (p - a, q - b). Normals facing away are left.
+void subtract_slope(Eigen::Ref<Eigen::RowVector3f> n, double a, double b) {
+  if (!(n.z() > 0.0f)) return;
+  const double p = -n.x() / n.z() - a, q = -n.y() / n.z() - b;
+  n = Eigen::Vector3f(float(-p), float(-q), 1.0f).normalized().transpose();
 }
 
 // Whether the pixel (r, c) stands above both of its sides along (dr, dc) by more than `step` in
@@ -131,10 +128,7 @@ void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {
     for (Eigen::Index c = 0; c < depth.cols(); ++c) {
       if (!mask(r, c)) continue;
       depth(r, c) -= float(plane.x() * double(c) - plane.y() * double(r) + plane.z());
-      auto n = normals.xyz.row(r * depth.cols() + c);
-      if (!(n.z() > 0.0f)) continue;
-      const double p = -n.x() / n.z() - plane.x(), q = -n.y() / n.z() - plane.y();
-      n = Eigen::Vector3f(float(-p), float(-q), 1.0f).normalized().transpose();
+      subtract_slope(normals.xyz.row(r * depth.cols() + c), plane.x(), plane.y());
     }
   }
   rebase_depth(depth, mask);
@@ -151,7 +145,8 @@ double relief_scale(const ImageF& image, const Mask& mask) {
       if (!mask(r, c)) continue;
       sum += logarithm(r, c);
       squares += logarithm(r, c) * logarithm(r, c);
-      slopes += masked_slope(logarithm, mask, r, c).squaredNorm();
+      const detail::MaskedGradient slope = detail::masked_gradient(logarithm, mask, int(r), int(c));
+      slopes += slope.dx * slope.dx + slope.dy * slope.dy;
       ++count;
     }
   const double mean = sum / double(count);
@@ -168,11 +163,8 @@ void damp_large_forms(ImageF& depth, NormalMap& normals, const Mask& mask, doubl
     for (Eigen::Index c = 0; c < depth.cols(); ++c) {
       if (!mask(r, c)) continue;
       depth(r, c) -= float(low(r, c));
-      auto n = normals.xyz.row(r * depth.cols() + c);
-      if (!(n.z() > 0.0f)) continue;
-      const Eigen::Vector2d slope = masked_slope(low, mask, r, c);
-      const double p = -n.x() / n.z() - slope.x(), q = -n.y() / n.z() - slope.y();
-      n = Eigen::Vector3f(float(-p), float(-q), 1.0f).normalized().transpose();
+      const detail::MaskedGradient slope = detail::masked_gradient(low, mask, int(r), int(c));
+      subtract_slope(normals.xyz.row(r * depth.cols() + c), slope.dx, slope.dy);
     }
   }
   rebase_depth(depth, mask);

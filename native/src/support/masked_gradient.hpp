@@ -1,5 +1,6 @@
 // Internal: derivatives of an image that use masked pixels only, shared by the renderer (normals of
-// a height field) and the local shape step (intensity gradient), so both read the same differences.
+// a height field), the local shape step (intensity gradient) and the relief's carrier (relief.cpp),
+// so all read the same differences.
 #pragma once
 
 #include <shadecut/support/types.hpp>
@@ -13,13 +14,16 @@ struct MaskedGradient {
   bool has_x = false, has_y = false;  ///< false where neither neighbour along that axis is masked
 };
 
-inline MaskedGradient masked_gradient(const ImageF& image, const Mask& mask, int r, int c) {
+/// `Field`: any H x W Eigen array or matrix of float or double (an image, a depth, a blurred field).
+template <class Field>
+MaskedGradient masked_gradient(const Field& image, const Mask& mask, int r, int c) {
+  using Scalar = typename Field::Scalar;
   const int rows = int(image.rows()), cols = int(image.cols());
-  auto at = [&](int rr, int cc) -> const float* {
+  auto at = [&](int rr, int cc) -> const Scalar* {
     if (rr < 0 || rr >= rows || cc < 0 || cc >= cols || !mask(rr, cc)) return nullptr;
     return &image(rr, cc);
   };
-  auto derivative = [&](const float* before, const float* after, bool* defined) {
+  auto derivative = [&](const Scalar* before, const Scalar* after, bool* defined) {
     *defined = before || after;
     if (before && after) return 0.5 * (double(*after) - double(*before));
     if (after) return double(*after) - double(image(r, c));
