@@ -43,10 +43,15 @@ def _scene(normals, depth, mask, light, albedo) -> Scene:
     return Scene(image, normals, np.where(mask, depth, 0).astype(np.float32), mask, tuple(light), albedo)
 
 
+def gradient_normals(dz_dx: np.ndarray, dz_dy: np.ndarray) -> np.ndarray:
+    """Unit camera-frame normals normalize(-dz/dx, -dz/dy, 1) of a height field's slopes (x right,
+    y up), (H, W, 3) float64."""
+    normals = np.dstack([-dz_dx, -dz_dy, np.ones_like(dz_dx)])
+    return normals / np.linalg.norm(normals, axis=2, keepdims=True)
+
+
 def _height_field(depth, dz_dx, dz_dy, mask, light, albedo) -> Scene:
-    normals = np.dstack([-dz_dx, -dz_dy, np.ones_like(depth)])
-    normals /= np.linalg.norm(normals, axis=2, keepdims=True)
-    return _scene(normals, depth - depth[mask].min(), mask, light, albedo)
+    return _scene(gradient_normals(dz_dx, dz_dy), depth - depth[mask].min(), mask, light, albedo)
 
 
 def sphere(light: Sequence[float], size: int = 128, radius_fraction: float = 0.45, bowl: bool = False,
@@ -168,8 +173,7 @@ def bricks(light: Sequence[float], size: int = 256, brick: tuple = (32, 12), mor
     ramp = np.clip(distance / bevel, 0.0, 1.0)
     depth = height * ramp * ramp * (3 - 2 * ramp)  # smoothstep: edges rounded, tops flat
     dz_drow, dz_dcol = np.gradient(depth)
-    normals = np.dstack([-dz_dcol, dz_drow, np.ones_like(depth)])  # y is up: dz/dy = -dz/drow
-    normals /= np.linalg.norm(normals, axis=2, keepdims=True)
+    normals = gradient_normals(dz_dcol, -dz_drow)  # y is up: dz/dy = -dz/drow
     mask = np.ones((size, size), bool)
     variation = 1.0 + np.random.default_rng(seed).uniform(-albedo_noise, albedo_noise, (size, size))
     image = render(normals.astype(np.float32), light, 1.0, mask) * (albedo * variation).astype(np.float32)

@@ -16,7 +16,7 @@ from typing import Sequence
 import numpy as np
 
 from .api import render
-from .synthetic import Scene
+from .synthetic import Scene, gradient_normals
 
 TRAINING_SEEDS = tuple(range(0, 4))
 TEST_SEEDS = tuple(range(100, 103))
@@ -50,8 +50,7 @@ def cast_shadows(depth: np.ndarray, light: Sequence[float], step: float = 0.5) -
 
 def _relief(depth: np.ndarray, albedo: np.ndarray, light: Sequence[float]) -> ReliefScene:
     dz_drow, dz_dcol = np.gradient(depth)
-    normals = np.dstack([-dz_dcol, dz_drow, np.ones_like(depth)])  # y is up: dz/dy = -dz/drow
-    normals = (normals / np.linalg.norm(normals, axis=2, keepdims=True)).astype(np.float32)
+    normals = gradient_normals(dz_dcol, -dz_drow).astype(np.float32)  # y is up: dz/dy = -dz/drow
     mask = np.ones(depth.shape, bool)
     shadow = cast_shadows(depth, light)
     image = render(normals, light, 1.0, mask) * albedo * ~shadow
