@@ -217,33 +217,49 @@ std::pair<double, double> orientation_energies(const LocalShape& local, const Li
   return {judge.energy(labelling), judge.energy(inverted)};
 }
 
-// Solves one level (after the coarser ones, when there are any) into `result`, reporting progress in
-// [begin, end] of the whole step.
+// The labellings carried up the levels: the paper's alone, or with a viscosity_weight the paper's
+// and the pulled one (in that order) while the pulled one leads but is not yet confirmed.
+using Lineages = std::vector<GlobalStepResult>;
+
+// Integrates both lineages and keeps the one whose depth renders closer to this level's image, with
+// both residuals; with `confirm_later`, a pulled lineage that leads keeps the paper's beside it.
+void choose_lineage(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                    const GlobalStepParams& params, bool confirm_later, Lineages& lineages) {
+  const double paper_residual = integrated_residual(lineages[0].normals, image, mask, light, albedo, params);
+  const double pulled_residual = integrated_residual(lineages[1].normals, image, mask, light, albedo, params);
+  const bool pulled_kept = pulled_residual < paper_residual;
+  for (GlobalStepResult& lineage : lineages) {
+    lineage.paper_residual = paper_residual;
+    lineage.pulled_residual = pulled_residual;
+    lineage.pulled_kept = pulled_kept;
+  }
+  if (pulled_kept && confirm_later) return;
+  GlobalStepResult kept = std::move(lineages[pulled_kept ? 1 : 0]);
+  lineages.assign(1, std::move(kept));
+}
+
+// Solves one level (after the coarser ones, when there are any) into `lineages`, reporting progress
+// in [begin, end] of the whole step and adding each stage's seconds to `seconds`. `finest` is the
+// level the caller asked for: lineages still both alive there are chosen between there.
 void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
-                 const GlobalStepParams& params, MaxFlowSolver& solver, Progress progress, GlobalStepResult& result) {
-  std::vector<int> centre;
-  GlobalStepResult coarse;
+                 const GlobalStepParams& params, MaxFlowSolver& solver, Progress progress, bool finest,
+                 std::map<std::string, double>& seconds, Lineages& lineages) {
+  Lineages coarse;
   Mask coarse_mask;
-  int coarse_moves = 0, coarse_accepted = 0, coarse_repaired = 0, coarse_levels = 0;
-  double coarse_seconds = 0.0;
   if (params.band >= 0 && object_size(mask) >= 2.0 * params.coarsest_object_size) {
     // A coarse pixel lies in the mask only when its whole block does.
     auto [half_image, half_mask] = downsample(image, mask, 2, 1.0);
     if (half_mask.any()) {
-      solve_level(half_image, half_mask, light, albedo, params, solver, progress.range(0.0, kCoarseShare), coarse);
-      centre = upsample_labels(coarse.labelling, half_mask, int(image.rows()), int(image.cols()));
+      solve_level(half_image, half_mask, light, albedo, params, solver, progress.range(0.0, kCoarseShare), false, seconds,
+                  coarse);
+      // Chosen at the finest level no larger than choice_object_size: finer levels rarely change
+      // which labelling explains the image better, and cost each lineage four times as much.
+      if (coarse.size() == 2 && object_size(mask) > params.choice_object_size) {
+        const Stopwatch stage;
+        choose_lineage(half_image, half_mask, light, albedo, params, false, coarse);
+        seconds["graphcut"] += stage.seconds();
+      }
       coarse_mask = std::move(half_mask);
-      coarse_moves = coarse.expansion.moves;
-      coarse_accepted = coarse.expansion.accepted_moves;
-      coarse_repaired = coarse.expansion.repaired_moves;
-      coarse_seconds = coarse.expansion.maxflow_seconds;
-      coarse_levels = coarse.levels;
-      result.seconds = coarse.seconds;
-      result.paper_residual = coarse.paper_residual;
-      result.pulled_residual = coarse.pulled_residual;
-      result.pulled_kept = coarse.pulled_kept;
-      result.orientation_energy = coarse.orientation_energy;
-      result.inverted_energy = coarse.inverted_energy;
       progress = progress.range(kCoarseShare, 1.0);
     }
   }
@@ -251,106 +267,116 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   progress.report(0.0, "local");
   Stopwatch stage;
   const LocalShape local = local_shape(image, mask, light, albedo, params.min_curvature);
-  result.seconds["local"] += stage.seconds();
-  progress.report(0.02, "energy");
-  stage.restart();
-  TiltEnergyParams energy_params = params.energy;
+  seconds["local"] += stage.seconds();
+  TiltEnergyParams base_params = params.energy;
   const double scale = unary_scale(mask);
-  energy_params.data_weight *= scale;
-  energy_params.undefined_weight *= scale;
-  // At a jump the band reaches the neighbours' coarse labels: a band around either side's own label
-  // holds no label of the other side, so the boundary could never leave the coarse pixels' edges,
-  // and every convex/concave boundary ended on the coarsest level's grid (issue 29). Reaching them, a
-  // level can move it by a pixel, and the levels together anywhere in a coarsest pixel.
-  std::vector<int> band_centre;
-  std::vector<std::int16_t> band_span;
-  std::vector<std::uint8_t> at_jump;
-  if (!centre.empty()) {
-    at_jump = jump_pixels(centre, mask, params.energy.labels);
-    std::tie(band_centre, band_span) = jump_windows(centre, at_jump, mask, params.energy.labels);
-    energy_params.band_centre = &band_centre;
-    energy_params.band_span = &band_span;
-  }
-  energy_params.band = params.band;
-  std::vector<std::uint8_t> frozen;
-  std::vector<float> frozen_tilts;
-  if (!centre.empty() && params.band_radius >= 0) {
-    frozen = frozen_pixels(at_jump, int(image.rows()), int(image.cols()), params.band_radius);
-    energy_params.band_frozen = &frozen;
-    frozen_tilts = upsampled_tilts(coarse, coarse_mask, centre, frozen, light, params.energy.labels, int(image.rows()),
-                                   int(image.cols()));
-  }
-  const TiltEnergy energy(local, light, mask, energy_params);
-  result.seconds["energy"] += stage.seconds();
-  const bool choose = centre.empty() && params.viscosity_weight > 0.0;
-  // Each labelling's share of the level's cuts: both when the coarsest level chooses.
-  const double cuts_end = choose ? 0.5 : 1.0;
-  progress.report(0.05, "graphcut");
-  stage.restart();
-  auto label = [&](const TiltEnergy& labelled, double begin, double end, AlphaExpansionStats& expansion) {
-    std::vector<int> labelling;
-    if (centre.empty()) {
-      labelling = labelled.convex_labelling();
-      convexity_cut(labelled, local, labelling, solver);
-    } else {
-      labelling = start_from_centres(labelled, centre);
+  base_params.data_weight *= scale;
+  base_params.undefined_weight *= scale;
+
+  // One lineage's labelling at this level, from its coarse labelling (none at the coarsest level),
+  // with `reference` pulling the energy when given; its progress in [begin, end] of the level.
+  auto solve_lineage = [&](const GlobalStepResult* from, const NormalMap* reference, double begin, double end) {
+    GlobalStepResult result;
+    progress.report(begin, "energy");
+    stage.restart();
+    TiltEnergyParams energy_params = base_params;
+    energy_params.band = params.band;
+    std::vector<int> centre;
+    // At a jump the band reaches the neighbours' coarse labels: a band around either side's own label
+    // holds no label of the other side, so the boundary could never leave the coarse pixels' edges,
+    // and every convex/concave boundary ended on the coarsest level's grid (issue 29). Reaching them, a
+    // level can move it by a pixel, and the levels together anywhere in a coarsest pixel.
+    std::vector<int> band_centre;
+    std::vector<std::int16_t> band_span;
+    std::vector<std::uint8_t> at_jump, frozen;
+    std::vector<float> frozen_tilts;
+    if (from) {
+      centre = upsample_labels(from->labelling, coarse_mask, int(image.rows()), int(image.cols()));
+      at_jump = jump_pixels(centre, mask, params.energy.labels);
+      std::tie(band_centre, band_span) = jump_windows(centre, at_jump, mask, params.energy.labels);
+      energy_params.band_centre = &band_centre;
+      energy_params.band_span = &band_span;
+      if (params.band_radius >= 0) {
+        frozen = frozen_pixels(at_jump, int(image.rows()), int(image.cols()), params.band_radius);
+        energy_params.band_frozen = &frozen;
+        frozen_tilts = upsampled_tilts(*from, coarse_mask, centre, frozen, light, params.energy.labels, int(image.rows()),
+                                       int(image.cols()));
+      }
     }
-    expansion = alpha_expansion(labelled, labelling, solver, params.max_cycles, params.tolerance, progress.range(begin, end));
-    return labelling;
+    if (reference) {
+      energy_params.reference = reference;
+      energy_params.reference_weight = params.viscosity_weight * scale;
+    }
+    const TiltEnergy energy(local, light, mask, energy_params);
+    seconds["energy"] += stage.seconds();
+    progress.report(begin + 0.05 * (end - begin), "graphcut");
+    stage.restart();
+    if (from) {
+      result.labelling = start_from_centres(energy, centre);
+    } else {
+      result.labelling = energy.convex_labelling();
+      convexity_cut(energy, local, result.labelling, solver);
+    }
+    result.expansion = alpha_expansion(energy, result.labelling, solver, params.max_cycles, params.tolerance,
+                                       progress.range(begin + 0.05 * (end - begin), end));
+    result.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * energy.labels());
+    seconds["graphcut"] += stage.seconds();
+    result.normals = labelling_normals(result.labelling, energy, local, light, params.refine,
+                                       frozen_tilts.empty() ? nullptr : &frozen_tilts);
+    if (from) {
+      result.expansion.moves += from->expansion.moves;
+      result.expansion.accepted_moves += from->expansion.accepted_moves;
+      result.expansion.repaired_moves += from->expansion.repaired_moves;
+      result.expansion.maxflow_seconds += from->expansion.maxflow_seconds;
+      result.levels = from->levels + 1;
+      result.orientation_energy = from->orientation_energy;
+      result.inverted_energy = from->inverted_energy;
+      result.paper_residual = from->paper_residual;
+      result.pulled_residual = from->pulled_residual;
+      result.pulled_kept = from->pulled_kept;
+    } else {
+      std::tie(result.orientation_energy, result.inverted_energy) =
+          orientation_energies(local, light, mask, base_params, result.labelling);
+    }
+    return result;
   };
-  std::vector<int> labelling = label(energy, 0.05, cuts_end, result.expansion);
-  result.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * energy.labels());
-  result.seconds["graphcut"] += stage.seconds();
-  result.normals = labelling_normals(labelling, energy, local, light, params.refine,
-                                     frozen_tilts.empty() ? nullptr : &frozen_tilts);
-  if (choose) {
-    progress.report(cuts_end, "upwind");
+
+  lineages.clear();
+  if (!coarse.empty()) {
+    const double share = 1.0 / double(coarse.size());
+    for (std::size_t i = 0; i < coarse.size(); ++i)
+      lineages.push_back(solve_lineage(&coarse[i], nullptr, double(i) * share, double(i + 1) * share));
+  } else if (params.viscosity_weight > 0.0) {
+    lineages.push_back(solve_lineage(nullptr, nullptr, 0.0, 0.5));
+    progress.report(0.5, "upwind");
     stage.restart();
     const NormalMap reference = normals_from_depth(upwind(image, mask, light, albedo, params.viscosity_rounds).depth, mask);
-    result.seconds["upwind"] += stage.seconds();
-    progress.report(cuts_end, "energy");
+    seconds["upwind"] += stage.seconds();
+    lineages.push_back(solve_lineage(nullptr, &reference, 0.5, 1.0));
+    // The coarsest level's residuals can be within its coarse discretization's own error: a pulled
+    // labelling that leads here is confirmed at a finer level, the paper's carried beside it.
     stage.restart();
-    energy_params.reference = &reference;
-    energy_params.reference_weight = params.viscosity_weight * scale;
-    const TiltEnergy pulled_energy(local, light, mask, energy_params);
-    result.seconds["energy"] += stage.seconds();
-    progress.report(cuts_end, "graphcut");
+    choose_lineage(image, mask, light, albedo, params, !finest, lineages);
+    seconds["graphcut"] += stage.seconds();
+  } else {
+    lineages.push_back(solve_lineage(nullptr, nullptr, 0.0, 1.0));
+  }
+  if (finest && lineages.size() == 2) {
     stage.restart();
-    AlphaExpansionStats pulled_expansion;
-    std::vector<int> pulled = label(pulled_energy, cuts_end, 1.0, pulled_expansion);
-    NormalMap pulled_normals = labelling_normals(pulled, pulled_energy, local, light, params.refine);
-    result.paper_residual = integrated_residual(result.normals, image, mask, light, albedo, params);
-    result.pulled_residual = integrated_residual(pulled_normals, image, mask, light, albedo, params);
-    result.seconds["graphcut"] += stage.seconds();
-    if (result.pulled_residual < result.paper_residual) {
-      result.pulled_kept = true;
-      labelling = std::move(pulled);
-      result.normals = std::move(pulled_normals);
-      result.expansion = std::move(pulled_expansion);
-      result.allowed_label_fraction = double(pulled_energy.allowed_count()) / (double(mask.count()) * energy.labels());
-    }
+    choose_lineage(image, mask, light, albedo, params, false, lineages);
+    seconds["graphcut"] += stage.seconds();
   }
-  if (centre.empty()) {
-    TiltEnergyParams judged = params.energy;
-    judged.data_weight *= scale;
-    judged.undefined_weight *= scale;
-    std::tie(result.orientation_energy, result.inverted_energy) =
-        orientation_energies(local, light, mask, judged, labelling);
-  }
-  result.expansion.moves += coarse_moves;
-  result.expansion.accepted_moves += coarse_accepted;
-  result.expansion.repaired_moves += coarse_repaired;
-  result.expansion.maxflow_seconds += coarse_seconds;
-  result.levels = coarse_levels + 1;
-  result.labelling = std::move(labelling);
 }
 
 }  // namespace
 
 GlobalStepResult global_step(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
                              const GlobalStepParams& params, MaxFlowSolver& solver, const Progress& progress) {
-  GlobalStepResult result;
-  solve_level(image, mask, light, albedo, params, solver, progress, result);
+  std::map<std::string, double> seconds;
+  Lineages lineages;
+  solve_level(image, mask, light, albedo, params, solver, progress, true, seconds, lineages);
+  GlobalStepResult result = std::move(lineages.front());
+  result.seconds = std::move(seconds);
   return result;
 }
 

@@ -1,5 +1,6 @@
-// The discrete Fourier transform of an image-sized field, shared by the Fourier-domain integrator
-// (integrate.cpp) and the relief light estimator (estimate_relief_light.cpp).
+// The discrete Fourier and cosine transforms of an image-sized field, shared by the Fourier-domain
+// integrator (integrate.cpp), the Poisson solve of a whole rectangle (grid_poisson.cpp) and the relief
+// light estimator (estimate_relief_light.cpp).
 #pragma once
 
 #include <complex>
@@ -17,5 +18,12 @@ enum class FourierDirection { Forward, Inverse };
 /// by Eigen's FFT (kissfft, header-only, any length), in parallel over lines. The inverse is scaled
 /// by 1 / (rows cols).
 void fourier_2d(std::vector<std::complex<double>>& field, int rows, int cols, FourierDirection direction);
+
+/// The 2-D discrete cosine transform of a rows x cols row-major real field, in place, along rows then
+/// columns. Forward is the DCT-II, X[k] = sum_n x[n] cos(pi k (n + 1/2) / N) along each line, whose
+/// basis vectors are the eigenvectors of a path's graph Laplacian (Neumann boundary); Inverse undoes
+/// it exactly (the DCT-III scaled by 2 / N, the k = 0 term by 1 / N). Each line costs one complex FFT
+/// of its own length (Makhoul 1980), two lines sharing it.
+void cosine_2d(std::vector<double>& field, int rows, int cols, FourierDirection direction);
 
 }  // namespace shadecut::detail

@@ -1,5 +1,5 @@
-// Internal: the least-squares depth of a masked pixel grid, solved by conjugate gradients
-// preconditioned with an aggregation multigrid V-cycle.
+// Internal: the least-squares depth of a masked pixel grid: by the cosine transform on a whole
+// rectangle, otherwise by conjugate gradients preconditioned with an aggregation multigrid V-cycle.
 #pragma once
 
 #include <shadecut/support/progress.hpp>
@@ -16,15 +16,17 @@ struct EdgeRises {
 };
 
 /// Minimises the sum over every pair (a, b) of 4-neighbours both in `mask` of (z_b - z_a - rise_ab)^2,
-/// i.e. solves the mask's graph-Laplacian system L z = div(rise). Iterates until the residual is at
-/// most `relative_tolerance` times the right-hand side's (the depth is then exact to about that
-/// relative precision). Each 4-connected component's depth is defined up to a constant, which this
-/// leaves arbitrary. Bit-identical for any number of threads (sums are taken row by row,
-/// then in row order).
+/// i.e. solves the mask's graph-Laplacian system L z = div(rise). A mask that covers the whole grid is
+/// solved exactly by the cosine transform, which diagonalizes L there; any other is iterated until
+/// the residual is at most `relative_tolerance` times the right-hand side's (the depth is then exact
+/// to about that relative precision). Each 4-connected component's depth is defined up to a
+/// constant, which this leaves arbitrary. Bit-identical for any number of threads (every line is
+/// transformed alone; the iteration's sums are taken row by row, then in row order).
 ///
 /// @param[in] mask     H x W.
 /// @param[in] rises    H * W each.
-/// @param[in] progress told the fraction of the iterations done (estimated from the residual), as
+/// @param[in] progress told the fraction of the iterations done (estimated from the residual; 1 at the
+///                     end of a whole grid's solve), as
 ///                     stage "integration"; may throw Cancelled.
 /// @return H * W depth, row-major; 0 outside the mask.
 std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises, double relative_tolerance,

@@ -29,10 +29,6 @@ namespace {
 // with the Poisson integrator at a megapixel, docs/benchmarks.md); fit_shading takes the rest.
 constexpr double kNormalsShare = 0.6;
 constexpr double kIntegratedShare = 0.8;
-// With a pulled labelling to confirm (viscosity_weight), its integration ends here and the paper's
-// labelling is solved up to kConfirmNormalsShare and integrated by kIntegratedShare.
-constexpr double kConfirmShare = 0.65;
-constexpr double kConfirmNormalsShare = 0.75;
 
 // Whether the depth is fitted to the image after integration: graphcut only, where it was tuned
 // (graphcut_two's integrated depth is a worse start: the fit raised its evaluation mean; the
@@ -63,30 +59,6 @@ double shadow_threshold_used(const ReconstructOptions& options) {
 // Whether the mask's edge is the object's outline (an occluding contour): never for a relief.
 bool edge_is_outline(const ReconstructOptions& options) {
   return options.occluding_contour && options.scene == SceneKind::Object;
-}
-
-// `kept` holds the pulled labelling's surface (statistics `stats`), `paper` the paper's labelling's
-// (`paper_stats`): the one whose depth renders closer to the image over the `counted` pixels stays in
-// `kept`, with its own graph-cut statistics; `stats` gets both residuals, the choice and both runs'
-// seconds.
-void keep_closer_to_image(const ImageF& image, const Mask& mask, const Mask& counted, const LightFrame& frame, double albedo,
-                          Surface paper, ReconstructStats paper_stats, Surface& kept, ReconstructStats& stats) {
-  auto residual = [&](const Surface& surface) {
-    return mean_brightness_residual(surface.depth, image, mask, counted, frame.direction, albedo);
-  };
-  const double paper_residual = residual(paper), pulled_residual = residual(kept);
-  std::map<std::string, double> seconds = stats.seconds;
-  for (const auto& [stage, spent] : paper_stats.seconds) seconds[stage] += spent;
-  if (paper_residual <= pulled_residual) {
-    paper_stats.light_estimated = stats.light_estimated;
-    paper_stats.light_uncertainty = stats.light_uncertainty;
-    stats = std::move(paper_stats);
-    kept = std::move(paper);
-  }
-  stats.seconds = std::move(seconds);
-  stats.paper_residual = paper_residual;
-  stats.pulled_residual = pulled_residual;
-  stats.pulled_kept = pulled_residual < paper_residual;
 }
 
 // The detail size of a relief's call (ReconstructStats::detail_size): NaN for objects, seamless
@@ -424,28 +396,12 @@ Reconstruction detail::reconstruct_shading(const ImageF& input, const std::optio
   const detail::ThreadCountScope threads(options.threads);
   const Mask unreliable =
       unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), options.highlight_threshold);
-  // The normals, then their integration, in [begin, end] of the call.
-  auto surface_of = [&](const ReconstructOptions& solved, double begin, double split, double end, ReconstructStats& stats) {
-    NormalMap normals = solve_normals(image, mask, frame, result.albedo, solved, progress.range(begin, split), stats);
-    progress.report(split, "integration");
-    const Stopwatch integration;
-    Surface surface = surface_from_normals(std::move(normals), mask, unreliable, edge_is_outline(options), options.integrator,
-                                           options.seamless, options.max_slope, progress.range(split, end));
-    stats.seconds["integration"] += integration.seconds();
-    return surface;
-  };
-  Surface surface = surface_of(options, 0.0, kNormalsShare, kConfirmShare, result.stats);
-  if (result.stats.pulled_kept) {
-    // The coarsest level preferred the pulled labelling; its residuals there can be within the
-    // coarse discretization's own error, so the paper's labelling is finished too and the choice
-    // is made again on the returned depths.
-    ReconstructOptions paper_options = options;
-    paper_options.viscosity_weight = 0.0;
-    ReconstructStats paper_stats;
-    Surface paper = surface_of(paper_options, kConfirmShare, kConfirmNormalsShare, kIntegratedShare, paper_stats);
-    keep_closer_to_image(image, mask, mask && !unreliable, frame, result.albedo, std::move(paper), std::move(paper_stats),
-                         surface, result.stats);
-  }
+  NormalMap normals = solve_normals(image, mask, frame, result.albedo, options, progress.range(0.0, kNormalsShare), result.stats);
+  progress.report(kNormalsShare, "integration");
+  const Stopwatch integration;
+  Surface surface = surface_from_normals(std::move(normals), mask, unreliable, edge_is_outline(options), options.integrator,
+                                         options.seamless, options.max_slope, progress.range(kNormalsShare, kIntegratedShare));
+  result.stats.seconds["integration"] = integration.seconds();
   result.normals = std::move(surface.normals);
   result.depth = std::move(surface.depth);
   result.stats.shadow_pixels = surface.filled_pixels;

@@ -41,9 +41,12 @@ struct GlobalStepParams {
   /// the normals of the level's viscosity solution (upwind.hpp; TiltEnergyParams::reference_weight =
   /// this for an object of kReferenceObjectSize pixels, scaled like data_weight); it integrates both
   /// labellings (Poisson, after filling the unreliable pixels) and keeps the one whose depth renders
-  /// closer to the level's image (brightness_residual over its reliable pixels). The finer levels
-  /// refine the one kept with the paper's energy. 0 = the paper's energy alone.
+  /// closer to the level's image (brightness_residual over its reliable pixels). When that is the
+  /// pulled one, both are refined with the paper's energy up to the finest level whose object is at
+  /// most `choice_object_size` pixels across (or the finest level, when it is smaller) and chosen
+  /// between again there; the finer levels refine the one kept. 0 = the paper's energy alone.
   double viscosity_weight{};
+  double choice_object_size = 256.0;
   int viscosity_rounds = 100;        ///< upwind's iterations
   double shadow_threshold{};         ///< unreliable_pixels' thresholds for that choice (< 0: no shadows)
   double highlight_threshold{};
@@ -57,8 +60,9 @@ struct GlobalStepResult {
   AlphaExpansionStats expansion;   ///< the finest level's; moves and maxflow_seconds summed over levels
   double allowed_label_fraction = 0.0;  ///< share of (pixel, label) pairs left at the finest level
   int levels = 1;                  ///< resolutions solved, the finest included
-  /// viscosity_weight: the mean squared brightness residual, at the coarsest level, of the paper's
-  /// labelling and of the pulled one, and whether the pulled one was kept; 0, 0, false otherwise.
+  /// viscosity_weight: the mean squared brightness residual, at the level where they were chosen
+  /// between (GlobalStepParams::viscosity_weight), of the paper's labelling and of the pulled one,
+  /// and whether the pulled one was kept; 0, 0, false otherwise.
   double paper_residual = 0.0;
   double pulled_residual = 0.0;
   bool pulled_kept = false;
@@ -77,7 +81,8 @@ struct GlobalStepResult {
 /// alpha-expansion from the convex labelling; coarse to fine when params.band >= 0 (see
 /// GlobalStepParams): the coarse labelling, upsampled, is the start and the band's centre, and the
 /// fine level skips the convexity cut (the coarse level made that choice). With a viscosity_weight
-/// the coarsest level chooses between two labellings (see GlobalStepParams::viscosity_weight).
+/// the coarsest level chooses between two labellings, and a pulled one that leads is confirmed at a
+/// level of at most choice_object_size pixels (see GlobalStepParams::viscosity_weight).
 ///
 /// @param[in] image     H x W linear intensity.
 /// @param[in] mask      H x W.

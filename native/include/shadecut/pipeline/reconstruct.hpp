@@ -121,9 +121,10 @@ struct ReconstructOptions {
   /// graphcut: > 0 also labels the image, at the coarsest level of coarse to fine, with the energy
   /// pulled toward the normals of its viscosity solution (upwind.hpp; GlobalStepParams::viscosity_weight,
   /// this weight), integrates both labellings and keeps the one whose depth renders closer to the
-  /// image; the finer levels refine it. When that is the pulled one, the paper's labelling is
-  /// finished too and the choice made again on the returned depths (brightness_residual over the
-  /// mask without shadows and highlights). 0 = the paper's energy alone. Tuned (docs/parameters.md).
+  /// image (brightness_residual over the mask without shadows and highlights). When that is the
+  /// pulled one, both are refined up to a level of at most 256 pixels across (the whole image when
+  /// smaller) and the choice made again there; the finer levels refine the one kept. 0 = the
+  /// paper's energy alone. Tuned (docs/parameters.md).
   double viscosity_weight = 0.3;
   /// graphcut: after integration, fit the depth to the image (fit_shading.hpp): the
   /// normals are then the depth's, integrable, and render closer to the image. Not with seamless.
@@ -172,14 +173,15 @@ struct ReconstructStats {
   double maxflow_seconds = 0.0;
   double allowed_label_fraction = 0.0;      ///< share of (pixel, label) pairs left after pruning
   int shadow_pixels = 0;                    ///< pixels whose normals were filled from their neighbours
+                                            ///< (attached shadows and highlights: fill_normals)
   /// reliefs: the detail size used (pixels; options.detail_size or the one read from the image);
   /// NaN for objects and when every form is kept
   double detail_size = std::numeric_limits<double>::quiet_NaN();
-                                            ///< (attached shadows and highlights: fill_normals)
   /// viscosity_weight: the mean squared brightness residuals of the paper's labelling's integrated
-  /// depth and of the pulled one's on which the choice was made (the returned depths' when the pulled
-  /// one led at the coarsest level, else that level's), and whether the pulled one was kept (then the
-  /// graph-cut statistics above are its own); 0, 0, false when it did not run.
+  /// depth and of the pulled one's on which the choice was made (the coarsest level's when the paper's
+  /// led there, else those of the finest level of at most GlobalStepParams::choice_object_size
+  /// pixels), and whether the pulled one was kept (the graph-cut statistics above are the kept
+  /// one's); 0, 0, false when it did not run.
   double paper_residual = 0.0;
   double pulled_residual = 0.0;
   bool pulled_kept = false;
