@@ -12,6 +12,7 @@
 #include <shadecut/integrate/surface_from_normals.hpp>
 #include <shadecut/baselines/tsai_shah.hpp>
 #include <shadecut/baselines/upwind.hpp>
+#include <shadecut/support/downsample.hpp>
 #include <shadecut/support/memory.hpp>
 #include <shadecut/support/validate.hpp>
 
@@ -80,15 +81,54 @@ void finish_relief(ImageF& depth, NormalMap& normals, const Mask& mask, const Re
   if (std::isfinite(detail_size)) damp_large_forms(depth, normals, mask, detail_size);
 }
 
+// The orientation is judged at an object size of at most this many pixels: a surface and its
+// inversion differ in how their large forms render, which survives block means, and at full size the
+// judgement cost as much as the call's integration (docs/benchmarks.md).
+constexpr double kOrientationObjectSize = 256.0;
+
+// Normals averaged over factor x factor blocks (where the whole block is in `mask`), renormalized.
+NormalMap block_mean_normals(const NormalMap& normals, const Mask& mask, int factor) {
+  std::array<ImageF, 3> small;
+  Mask small_mask;
+  for (int axis = 0; axis < 3; ++axis) {
+    ImageF plane(normals.rows, normals.cols);
+    for (Eigen::Index i = 0; i < normals.size(); ++i) plane.data()[i] = normals.xyz(i, axis);
+    Downsampled shrunk = downsample(plane, mask, factor, 1.0);
+    small[std::size_t(axis)] = std::move(shrunk.image);
+    small_mask = std::move(shrunk.mask);
+  }
+  NormalMap out(int(small_mask.rows()), int(small_mask.cols()));
+  for (Eigen::Index i = 0; i < out.size(); ++i) {
+    const Eigen::Vector3f n(small[0].data()[i], small[1].data()[i], small[2].data()[i]);
+    out.xyz.row(i) = small_mask.data()[i] && n.norm() > 0.0f ? n.normalized().transpose() : Eigen::RowVector3f(0, 0, 1);
+  }
+  return out;
+}
+
 // The orientation statistics of the result (ReconstructStats::orientation_residual, inverted_residual,
 // orientation_ambiguous): its depth rendered, and the surface of its normals turned by pi about the
 // light (n -> 2 (n . S) S - n, each normal's other one of the same brightness), made a surface as the
-// result was (filled, integrated, flattened for a relief) and rendered, over the reliable pixels.
-void judge_orientation(const ImageF& image, const Mask& unreliable, const LightFrame& frame, const ReconstructOptions& options,
-                       Reconstruction& result) {
-  const Mask& mask = result.mask;
-  const Eigen::Vector3f light = frame.direction.cast<float>();
+// result was (filled, integrated, flattened for a relief) and rendered, over the reliable pixels;
+// both on block means when the object is larger than kOrientationObjectSize.
+void judge_orientation(const ImageF& full_image, const Mask& full_unreliable, const LightFrame& frame,
+                       const ReconstructOptions& options, Reconstruction& result) {
+  const int factor = std::max(1, int(object_size(result.mask) / kOrientationObjectSize));
+  ImageF image = full_image, depth = result.depth;
+  Mask mask = result.mask, unreliable = full_unreliable;
   NormalMap turned = result.normals;
+  double detail_size = result.stats.detail_size;
+  if (factor > 1) {
+    // A block is unreliable when any of its pixels is; depth in pixel units shrinks with the pixels.
+    Downsampled small = downsample(full_image, result.mask, factor, 1.0);
+    depth = downsample(result.depth, result.mask, factor, 1.0).image / float(factor);
+    unreliable = downsample(full_unreliable.cast<float>(), result.mask, factor, 1.0).image > 0.0f;
+    turned = block_mean_normals(result.normals, result.mask, factor);
+    image = std::move(small.image);
+    mask = std::move(small.mask);
+    unreliable = unreliable && mask;
+    detail_size /= factor;
+  }
+  const Eigen::Vector3f light = frame.direction.cast<float>();
   for (Eigen::Index i = 0; i < turned.size(); ++i) {
     if (!mask.data()[i]) continue;
     const Eigen::Vector3f n = turned.xyz.row(i).transpose();
@@ -96,13 +136,13 @@ void judge_orientation(const ImageF& image, const Mask& unreliable, const LightF
   }
   Surface inverted = surface_from_normals(std::move(turned), mask, unreliable, edge_is_outline(options), options.integrator,
                                           options.seamless, options.max_slope);
-  finish_relief(inverted.depth, inverted.normals, mask, options, result.stats.detail_size);
+  finish_relief(inverted.depth, inverted.normals, mask, options, detail_size);
   const Mask counted = mask && !unreliable;
-  auto residual = [&](const ImageF& depth) {
-    return mean_brightness_residual(depth, image, mask, counted, frame.direction, result.albedo);
+  auto residual = [&](const ImageF& rendered_depth) {
+    return mean_brightness_residual(rendered_depth, image, mask, counted, frame.direction, result.albedo);
   };
   ReconstructStats& stats = result.stats;
-  stats.orientation_residual = residual(result.depth);
+  stats.orientation_residual = residual(depth);
   stats.inverted_residual = residual(inverted.depth);
   stats.orientation_ambiguous = stats.inverted_residual < kAmbiguousResidualRatio * stats.orientation_residual;
 }

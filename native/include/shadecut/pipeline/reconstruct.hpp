@@ -194,7 +194,9 @@ struct ReconstructStats {
   double inverted_energy = 0.0;
   /// Every method: the mean squared brightness residual (mean_brightness_residual) of the returned
   /// depth and of the inversion's (its normals made a surface as the result's were: filled,
-  /// integrated, flattened for a relief), over the mask without shadows and highlights.
+  /// integrated, flattened for a relief), over the mask without shadows and highlights; for an object
+  /// 512 pixels across or more, both on means of blocks that bring it to 256-511 pixels (a block with
+  /// a shadow or a highlight not counted).
   double orientation_residual = 0.0;
   double inverted_residual = 0.0;
   /// inverted_residual < kAmbiguousResidualRatio * orientation_residual: the image explains the
