@@ -189,21 +189,21 @@ TiltEnergy::TiltEnergy(const LocalShape& local, const LightFrame& light, const M
                        const TiltEnergyParams& params)
     : rows_(int(mask.rows())), cols_(int(mask.cols())), labels_(params.labels), mask_(mask) {
   check_params(params, rows_, cols_);
-  build_pairwise_terms(local);
-  const detail::LabelCostModel model(*this, local, light, mask, params);
   const int threads = params.threads > 0 ? params.threads : detail::default_thread_count();
+  build_pairwise_terms(local, threads);
+  const detail::LabelCostModel model(*this, local, light, mask, params);
   build_windows(model, params, threads);
   build_data_costs(model, params.prune, threads);
 }
 
-void TiltEnergy::build_pairwise_terms(const LocalShape& local) {
+void TiltEnergy::build_pairwise_terms(const LocalShape& local, int threads) {
   const int n = rows_ * cols_, k_count = labels_;
   chord_.resize(std::size_t(k_count));
   for (int d = 0; d < k_count; ++d) chord_[std::size_t(d)] = float(2.0 * std::abs(std::sin(M_PI * d / k_count)));
 
   weight_right_.assign(std::size_t(n), 0.0f);
   weight_down_.assign(std::size_t(n), 0.0f);
-  for (int r = 0; r < rows_; ++r) {
+  detail::parallel_for(rows_, 16, threads, [&](int r) {
     for (int c = 0; c < cols_; ++c) {
       if (!mask_(r, c)) continue;
       const int p = r * cols_ + c;
@@ -212,7 +212,7 @@ void TiltEnergy::build_pairwise_terms(const LocalShape& local) {
       if (r + 1 < rows_ && mask_(r + 1, c))
         weight_down_[std::size_t(p)] = std::sin(std::min(local.slant(r, c), local.slant(r + 1, c)));
     }
-  }
+  });
 }
 
 // The windows: a pixel with a band centre keeps the band (or only its centre, when frozen), unless

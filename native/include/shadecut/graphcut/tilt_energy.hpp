@@ -156,7 +156,7 @@ class TiltEnergy {
 
  private:
   // The constructor's steps: w_pq and the chords, the band's windows, R_p after dead-end elimination.
-  void build_pairwise_terms(const LocalShape& local);
+  void build_pairwise_terms(const LocalShape& local, int threads);
   void build_windows(const detail::LabelCostModel& model, const TiltEnergyParams& params, int threads);
   void build_data_costs(const detail::LabelCostModel& model, bool prune, int threads);
   void eliminate_dead_ends(int pixel, int first, int width, float* cost) const;
