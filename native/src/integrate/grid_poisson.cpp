@@ -250,10 +250,21 @@ constexpr int kMaxIterations = 1000;
 // boundary; Simchony, Chellappa & Shao 1990), whose eigenvalue at frequencies (k, l) is
 // 4 - 2 cos(pi k / rows) - 2 cos(pi l / cols). Exact up to rounding, at the cost of two transforms;
 // the constant, L's null space, is set to 0.
-std::vector<double> solve_rectangle(const Level& level) {
+std::vector<double> solve_rectangle(int rows, int cols, const EdgeRises& rises) {
   constexpr double kPi = 3.14159265358979323846;
-  const int rows = level.rows, cols = level.cols;
-  std::vector<double> field(level.rhs.data(), level.rhs.data() + level.size());
+  // b = div(rise), as set_divergence takes it with every edge present.
+  std::vector<double> field(std::size_t(rows) * cols, 0.0);
+  for_each_row(rows, field.size(), [&](int r) {
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = std::size_t(r) * cols + c;
+      double b = 0.0;
+      if (c + 1 < cols) b -= rises.right[i];
+      if (c > 0) b += rises.right[i - 1];
+      if (r + 1 < rows) b -= rises.down[i];
+      if (r > 0) b += rises.down[i - std::size_t(cols)];
+      field[i] = b;
+    }
+  });
   cosine_2d(field, rows, cols, FourierDirection::Forward);
   std::vector<double> column_part(static_cast<std::size_t>(cols));
   for (int c = 0; c < cols; ++c) column_part[std::size_t(c)] = 2.0 - 2.0 * std::cos(kPi * c / cols);
@@ -274,9 +285,7 @@ std::vector<double> solve_rectangle(const Level& level) {
 std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises, double relative_tolerance,
                                        const Progress& progress) {
   if (mask.all()) {
-    Level whole = finest_level(mask);
-    set_divergence(whole, rises);
-    std::vector<double> depth = solve_rectangle(whole);
+    std::vector<double> depth = solve_rectangle(int(mask.rows()), int(mask.cols()), rises);
     progress.report(1.0, "integration");
     return depth;
   }

@@ -1,5 +1,7 @@
 #include <shadecut/pipeline/shadow_fill.hpp>
 
+#include <shadecut/support/mask_components.hpp>
+
 #include "support/contour.hpp"
 
 #include <Eigen/Sparse>
@@ -35,25 +37,18 @@ int fill_normals(NormalMap& normals, const Mask& fill, const Mask& mask, bool oc
     return occluding_contour ? detail::contour_outward(mask, r, c) : Eigen::Vector2d::Zero();
   };
 
+  if (!(fill && mask).any()) return 0;
   // Whether an edge turns away from the viewer (a silhouette: normals point outward) or toward it
   // (a rim: inward) is read from the lit pixels of the same connected component.
-  std::vector<int> component(std::size_t(n), -1);
+  MaskComponents components;
   std::vector<double> outward_vote;
-  for (int start = 0; start < n; ++start) {
-    if (!mask.data()[start] || component[std::size_t(start)] >= 0) continue;
-    const int id = int(outward_vote.size());
-    outward_vote.push_back(0.0);
-    std::vector<int> stack{start};
-    component[std::size_t(start)] = id;
-    while (!stack.empty()) {
-      const int p = stack.back(), r = p / cols, c = p % cols;
-      stack.pop_back();
-      if (!shadowed(p)) outward_vote[std::size_t(id)] += outward(r, c).dot(normals.xyz.row(p).head<2>().cast<double>());
-      const int neighbours[4][2] = {{r, c - 1}, {r, c + 1}, {r - 1, c}, {r + 1, c}};
-      for (const auto& rc : neighbours) {
-        const int q = rc[0] * cols + rc[1];
-        if (inside(rc[0], rc[1]) && component[std::size_t(q)] < 0) component[std::size_t(q)] = id, stack.push_back(q);
-      }
+  if (occluding_contour) {
+    components = mask_components(mask);
+    outward_vote.assign(std::size_t(components.count), 0.0);
+    for (int p = 0; p < n; ++p) {
+      if (!mask.data()[p] || shadowed(p)) continue;
+      outward_vote[std::size_t(components.labels.data()[p])] +=
+          outward(p / cols, p % cols).dot(normals.xyz.row(p).head<2>().cast<double>());
     }
   }
 
@@ -64,7 +59,7 @@ int fill_normals(NormalMap& normals, const Mask& fill, const Mask& mask, bool oc
       const int p = r * cols + c;
       if (!mask(r, c) || !shadowed(p)) continue;
       const Eigen::Vector2d edge = outward(r, c);
-      const double vote = outward_vote[std::size_t(component[std::size_t(p)])];
+      const double vote = occluding_contour ? outward_vote[std::size_t(components.labels.data()[p])] : 0.0;
       if (edge.norm() > 0.0 && vote != 0.0) {
         const Eigen::Vector2d horizontal = vote > 0.0 ? edge : Eigen::Vector2d(-edge);
         normals.xyz.row(p) << float(horizontal.x()), float(horizontal.y()), 0.0f;
