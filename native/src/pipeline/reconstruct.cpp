@@ -205,7 +205,7 @@ NormalMap brooks_horn_normals(const ImageF& image, const Mask& mask, const Light
 
 }  // namespace
 
-// A call's peak memory per pixel (docs/benchmarks.md, "Memory"): about 167 bytes with coarse to
+// A call's peak memory per pixel (docs/benchmarks.md, "Memory"): 120-167 bytes with coarse to
 // fine, whatever the method; the exact alpha-expansion keeps every label's cost and flow per pixel too.
 constexpr double kPeakBytesPerPixel = 180.0;
 constexpr double kPeakBytesPerLabelPixel = 20.0;
