@@ -186,10 +186,9 @@ std::vector<int> start_from_centres(const TiltEnergy& energy, const std::vector<
 }
 
 // The mean squared brightness residual of the depth integrated from a labelling's normals, over the
-// reliable pixels: how well the labelling, made integrable, explains the image.
-double integrated_residual(NormalMap normals, const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
-                           const GlobalStepParams& params) {
-  const Mask unreliable = unreliable_pixels(image, mask, albedo, params.shadow_threshold, params.highlight_threshold);
+// pixels not `unreliable`: how well the labelling, made integrable, explains the image.
+double integrated_residual(NormalMap normals, const ImageF& image, const Mask& mask, const Mask& unreliable,
+                           const LightFrame& light, double albedo, const GlobalStepParams& params) {
   const Surface surface =
       surface_from_normals(std::move(normals), mask, unreliable, params.occluding_contour, Integrator::Poisson, false,
                            params.max_slope);
@@ -222,11 +221,19 @@ std::pair<double, double> orientation_energies(const LocalShape& local, const Li
 using Lineages = std::vector<GlobalStepResult>;
 
 // Integrates both lineages and keeps the one whose depth renders closer to this level's image, with
-// both residuals; with `confirm_later`, a pulled lineage that leads keeps the paper's beside it.
+// both residuals; with `confirm_later`, a pulled lineage that leads keeps the paper's beside it. Its
+// time counts as the graph cut's.
 void choose_lineage(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
-                    const GlobalStepParams& params, bool confirm_later, Lineages& lineages) {
-  const double paper_residual = integrated_residual(lineages[0].normals, image, mask, light, albedo, params);
-  const double pulled_residual = integrated_residual(lineages[1].normals, image, mask, light, albedo, params);
+                    const GlobalStepParams& params, bool confirm_later, std::map<std::string, double>& seconds,
+                    Lineages& lineages) {
+  const Stopwatch stage;
+  const Mask unreliable = unreliable_pixels(image, mask, albedo, params.shadow_threshold, params.highlight_threshold);
+  auto residual = [&](const GlobalStepResult& lineage) {
+    return integrated_residual(lineage.normals, image, mask, unreliable, light, albedo, params);
+  };
+  const double paper_residual = residual(lineages[0]);
+  const double pulled_residual = residual(lineages[1]);
+  seconds["graphcut"] += stage.seconds();
   const bool pulled_kept = pulled_residual < paper_residual;
   for (GlobalStepResult& lineage : lineages) {
     lineage.paper_residual = paper_residual;
@@ -254,11 +261,8 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
                   coarse);
       // Chosen at the finest level no larger than choice_object_size: finer levels rarely change
       // which labelling explains the image better, and cost each lineage four times as much.
-      if (coarse.size() == 2 && object_size(mask) > params.choice_object_size) {
-        const Stopwatch stage;
-        choose_lineage(half_image, half_mask, light, albedo, params, false, coarse);
-        seconds["graphcut"] += stage.seconds();
-      }
+      if (coarse.size() == 2 && object_size(mask) > params.choice_object_size)
+        choose_lineage(half_image, half_mask, light, albedo, params, false, seconds, coarse);
       coarse_mask = std::move(half_mask);
       progress = progress.range(kCoarseShare, 1.0);
     }
@@ -355,17 +359,11 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
     lineages.push_back(solve_lineage(nullptr, &reference, 0.5, 1.0));
     // The coarsest level's residuals can be within its coarse discretization's own error: a pulled
     // labelling that leads here is confirmed at a finer level, the paper's carried beside it.
-    stage.restart();
-    choose_lineage(image, mask, light, albedo, params, !finest, lineages);
-    seconds["graphcut"] += stage.seconds();
+    choose_lineage(image, mask, light, albedo, params, !finest, seconds, lineages);
   } else {
     lineages.push_back(solve_lineage(nullptr, nullptr, 0.0, 1.0));
   }
-  if (finest && lineages.size() == 2) {
-    stage.restart();
-    choose_lineage(image, mask, light, albedo, params, false, lineages);
-    seconds["graphcut"] += stage.seconds();
-  }
+  if (finest && lineages.size() == 2) choose_lineage(image, mask, light, albedo, params, false, seconds, lineages);
 }
 
 }  // namespace

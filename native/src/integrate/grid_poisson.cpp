@@ -226,22 +226,24 @@ std::vector<Level> hierarchy(const Mask& mask) {
   return levels;
 }
 
-// b = div(rise): each edge pulls its ends apart by its rise.
-void set_divergence(Level& level, const EdgeRises& rises) {
-  double* b = level.rhs.data();
-  const double* right = level.right.data();
-  const double* down = level.down.data();
-  const std::size_t cols = std::size_t(level.cols);
-  for (std::size_t i = 0; i < level.size(); ++i) {
-    if (right[i] != 0.0) {
-      b[i] -= rises.right[i];
-      b[i + 1] += rises.right[i];
+// b = div(rise) into b (H * W, row-major): each edge of two masked 4-neighbours pulls its ends apart
+// by its rise; a cell gathers its own four edges, so rows run in parallel.
+void write_divergence(const Mask& mask, const EdgeRises& rises, double* b) {
+  const int rows = int(mask.rows()), cols = int(mask.cols());
+  const bool* inside = mask.data();
+  for_each_row(rows, std::size_t(mask.size()), [&](int r) {
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = std::size_t(r) * cols + c;
+      double sum = 0.0;
+      if (inside[i]) {
+        if (c + 1 < cols && inside[i + 1]) sum -= rises.right[i];
+        if (c > 0 && inside[i - 1]) sum += rises.right[i - 1];
+        if (r + 1 < rows && inside[i + cols]) sum -= rises.down[i];
+        if (r > 0 && inside[i - std::size_t(cols)]) sum += rises.down[i - std::size_t(cols)];
+      }
+      b[i] = sum;
     }
-    if (down[i] != 0.0) {
-      b[i] -= rises.down[i];
-      b[i + cols] += rises.down[i];
-    }
-  }
+  });
 }
 
 constexpr int kMaxIterations = 1000;
@@ -250,21 +252,11 @@ constexpr int kMaxIterations = 1000;
 // boundary; Simchony, Chellappa & Shao 1990), whose eigenvalue at frequencies (k, l) is
 // 4 - 2 cos(pi k / rows) - 2 cos(pi l / cols). Exact up to rounding, at the cost of two transforms;
 // the constant, L's null space, is set to 0.
-std::vector<double> solve_rectangle(int rows, int cols, const EdgeRises& rises) {
+std::vector<double> solve_rectangle(const Mask& whole, const EdgeRises& rises) {
   constexpr double kPi = 3.14159265358979323846;
-  // b = div(rise), as set_divergence takes it with every edge present.
-  std::vector<double> field(std::size_t(rows) * cols, 0.0);
-  for_each_row(rows, field.size(), [&](int r) {
-    for (int c = 0; c < cols; ++c) {
-      const std::size_t i = std::size_t(r) * cols + c;
-      double b = 0.0;
-      if (c + 1 < cols) b -= rises.right[i];
-      if (c > 0) b += rises.right[i - 1];
-      if (r + 1 < rows) b -= rises.down[i];
-      if (r > 0) b += rises.down[i - std::size_t(cols)];
-      field[i] = b;
-    }
-  });
+  const int rows = int(whole.rows()), cols = int(whole.cols());
+  std::vector<double> field(std::size_t(whole.size()));
+  write_divergence(whole, rises, field.data());
   cosine_2d(field, rows, cols, FourierDirection::Forward);
   std::vector<double> column_part(static_cast<std::size_t>(cols));
   for (int c = 0; c < cols; ++c) column_part[std::size_t(c)] = 2.0 - 2.0 * std::cos(kPi * c / cols);
@@ -285,7 +277,7 @@ std::vector<double> solve_rectangle(int rows, int cols, const EdgeRises& rises) 
 std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises, double relative_tolerance,
                                        const Progress& progress) {
   if (mask.all()) {
-    std::vector<double> depth = solve_rectangle(int(mask.rows()), int(mask.cols()), rises);
+    std::vector<double> depth = solve_rectangle(mask, rises);
     progress.report(1.0, "integration");
     return depth;
   }
@@ -293,7 +285,7 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
   Level& finest = levels.front();
   const std::size_t size = finest.size();
   const int cols = finest.cols;
-  set_divergence(finest, rises);
+  write_divergence(mask, rises, finest.rhs.data());
   std::vector<double> row_sums(std::size_t(finest.rows));
 
   // Conjugate gradients on L x = b, preconditioned by one V-cycle; the finest level's rhs doubles as
