@@ -128,8 +128,8 @@ struct ReconstructOptions {
   double viscosity_weight = 0.3;
   /// graphcut: after integration, fit the depth to the image (fit_shading.hpp): the
   /// normals are then the depth's, integrable, and render closer to the image. Not with seamless.
-  /// Off by default: it wins on the training surfaces but costs several times the rest of the call
-  /// (docs/benchmarks.md, "Fitting the depth to the image").
+  /// Off by default: it wins on the training surfaces; its time (about one call's at 1024 px,
+  /// docs/benchmarks.md, "Fitting the depth to the image") is weighed against the whole call's.
   bool fit_shading = false;
   /// FitShadingParams::smoothness, tuned (docs/parameters.md).
   double fit_smoothness = 0.05;
