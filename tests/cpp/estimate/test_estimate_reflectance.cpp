@@ -82,8 +82,11 @@ TEST(EstimateReflectance, TheColourCueLeavesAnUnpaintedSphereOfOneAlbedo) {
   colour_only.intensity_edge = 0.0;
   const Reflectance reflectance = estimate_reflectance(luminance(colour), &colour, scene.mask, colour_only);
   EXPECT_EQ(reflectance.edge_pairs, 0);
-  for (Eigen::Index i = 0; i < scene.mask.size(); ++i)
-    if (scene.mask.data()[i]) EXPECT_FLOAT_EQ(reflectance.relative.data()[i], 1.0f);
+  for (Eigen::Index i = 0; i < scene.mask.size(); ++i) {
+    if (scene.mask.data()[i]) {
+      EXPECT_FLOAT_EQ(reflectance.relative.data()[i], 1.0f);
+    }
+  }
 }
 
 TEST(EstimateReflectance, TheDeLitColourIsThePaintsColour) {
@@ -95,7 +98,9 @@ TEST(EstimateReflectance, TheDeLitColourIsThePaintsColour) {
   // On the left half the paint's red / green ratio, 0.6 / 0.35, whatever the shading.
   for (Eigen::Index r = 20; r < 76; r += 7) {
     const float red = result.albedo_colour.channel[0](r, 30), green = result.albedo_colour.channel[1](r, 30);
-    if (painted.scene.mask(r, 30) && painted.scene.image(r, 30) > 0.1f) EXPECT_NEAR(red / green, 0.6 / 0.35, 1e-3);
+    if (painted.scene.mask(r, 30) && painted.scene.image(r, 30) > 0.1f) {
+      EXPECT_NEAR(red / green, 0.6 / 0.35, 1e-3);
+    }
   }
 }
 
