@@ -77,8 +77,9 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
                         help="skip the paper's experiment (Mozart, light (1,0,1))")
     parser.add_argument("--diligent", type=Path, metavar="DIR",
                         help="real photographs: a DiLiGenT object folder or a folder of them (alone: only these)")
-    parser.add_argument("--fit-shading", action="store_true",
-                        help="reconstruct with fit_shading on (graphcut: the depth fitted to the image)")
+    parser.add_argument("--fit-shading", action=argparse.BooleanOptionalAction,
+                        help="graphcut's fit_shading (the depth fitted to the image) on or off "
+                             f"(default: {'on' if shadecut.ReconstructOptions().fit_shading else 'off'})")
     generated = parser.add_argument_group("generated dataset (without --dataset)")
     generated.add_argument("--size", type=int, metavar="N",
                            help=f"image size in pixels (default {GENERATED_DEFAULTS['size']})")
@@ -267,7 +268,7 @@ def main(argv: list[str]) -> int:
         print(f"eval.py: error: {error}", file=sys.stderr)
         return 2
 
-    options = {"fit_shading": True} if args.fit_shading else {}
+    options = {} if args.fit_shading is None else {"fit_shading": args.fit_shading}
     shown = []
     if run_dataset:
         light = (f"light and albedo estimated by {args.estimate_light}" if args.estimate_light
