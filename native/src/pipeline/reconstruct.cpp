@@ -113,21 +113,23 @@ NormalMap block_mean_normals(const NormalMap& normals, const Mask& mask, int fac
 void judge_orientation(const ImageF& full_image, const Mask& full_unreliable, const LightFrame& frame,
                        const ReconstructOptions& options, Reconstruction& result) {
   const int factor = std::max(1, int(object_size(result.mask) / kOrientationObjectSize));
-  ImageF image = full_image, depth = result.depth;
-  Mask mask = result.mask, unreliable = full_unreliable;
-  NormalMap turned = result.normals;
+  // The block means, when there are blocks; the call's own images are only read.
+  Downsampled small;
+  ImageF small_depth;
+  Mask small_unreliable;
   double detail_size = result.stats.detail_size;
   if (factor > 1) {
     // A block is unreliable when any of its pixels is; depth in pixel units shrinks with the pixels.
-    Downsampled small = downsample(full_image, result.mask, factor, 1.0);
-    depth = downsample(result.depth, result.mask, factor, 1.0).image / float(factor);
-    unreliable = downsample(full_unreliable.cast<float>(), result.mask, factor, 1.0).image > 0.0f;
-    turned = block_mean_normals(result.normals, result.mask, factor);
-    image = std::move(small.image);
-    mask = std::move(small.mask);
-    unreliable = unreliable && mask;
+    small = downsample(full_image, result.mask, factor, 1.0);
+    small_depth = downsample(result.depth, result.mask, factor, 1.0).image / float(factor);
+    small_unreliable = downsample(full_unreliable.cast<float>(), result.mask, factor, 1.0).image > 0.0f && small.mask;
     detail_size /= factor;
   }
+  NormalMap turned = factor > 1 ? block_mean_normals(result.normals, result.mask, factor) : result.normals;
+  const ImageF& image = factor > 1 ? small.image : full_image;
+  const ImageF& depth = factor > 1 ? small_depth : result.depth;
+  const Mask& mask = factor > 1 ? small.mask : result.mask;
+  const Mask& unreliable = factor > 1 ? small_unreliable : full_unreliable;
   const Eigen::Vector3f light = frame.direction.cast<float>();
   for (Eigen::Index i = 0; i < turned.size(); ++i) {
     if (!mask.data()[i]) continue;
