@@ -124,8 +124,8 @@ def light_errors(name: str, folder: Path, method=None) -> tuple[np.ndarray, np.n
 
 
 CAT_LIGHT = ("Measured over the 19 photographs: the cat's light is off by a median of 14.2 deg with "
-             "zheng_chellappa (the default) and 15.1 with contour; the paint's albedo varies and neither "
-             "estimator models a varying albedo; the issue asks 6")
+             "zheng_chellappa (the default) and 15.1 with contour; the issue asks 6, which even the cat's "
+             "true normals do not reach (12.3 median: the test after this one)")
 READING_LIGHT = ("Measured over the 19 photographs: the reading figure's light is off by a median of 40.4 deg "
                  "with zheng_chellappa (the default) and 19.4 with contour; its albedo varies more than the "
                  "cat's; the issue asks 12")
@@ -141,3 +141,23 @@ def test_the_light_median(name, bound, tmp_path):
     print(f"{name} light off, median (largest at slant >= 15 deg): " + ", ".join(
         f"{m} {np.median(e):.1f} ({e[slant >= 15].max():.1f})" for m, (e, slant) in errors.items()))
     assert np.median(errors["zheng_chellappa"][0]) <= bound
+
+
+def test_even_the_true_shape_does_not_read_the_cats_light_within_six_degrees(tmp_path):
+    """Why the cat's bound above is out of reach for an estimator of one light and one albedo: given
+    the cat's true normals, the light that fits each photograph best (least squares over the pixels
+    brighter than 5% of the 90th percentile, the true light not used) is still 8.6-13.5 deg off,
+    12.3 median; the same fit reads the ball's light to 1.6 deg at most and the reading figure's to a
+    9.4 median. The cat's glaze, its grey paint and its shadows are not one Lambertian albedo."""
+    def true_shape_light_off(sample) -> float:
+        inner = shadecut.erode_mask(sample.mask, 2)
+        lit = inner & (sample.image > 0.05 * np.percentile(sample.image[sample.mask], 90))
+        fitted = np.linalg.lstsq(sample.normals[lit], sample.image[lit], rcond=None)[0]
+        return float(np.degrees(np.arccos(np.clip(fitted @ sample.light / np.linalg.norm(fitted), -1, 1))))
+
+    off = {name: np.array([true_shape_light_off(s) for s in imported(name, tmp_path / name)])
+           for name in ("ballPNG", "catPNG", "readingPNG")}
+    print("light fitted to the true normals, degrees off, median (largest): " + ", ".join(
+        f"{name} {np.median(e):.1f} ({e.max():.1f})" for name, e in off.items()))
+    assert off["ballPNG"].max() <= 2.0  # the fit itself reads a Lambertian photograph's light
+    assert off["catPNG"].min() > 6.0
