@@ -50,20 +50,22 @@ class Field {
 struct Level {
   int rows = 0, cols = 0;
   Field<float> right, down;        // weight of the edge to (r, c + 1), to (r + 1, c); 0 where there is none
-  Field<float> diagonal, inverse;  // sum of a cell's edge weights, its inverse (0 for a cell without edges)
+  Field<float> anchor;             // weight of a cell's pull toward a value (Anchors); 0 without
+  Field<float> diagonal, inverse;  // sum of a cell's weights, its inverse (0 for a cell with none)
   Field<float> solution, rhs;
-  // Per row, the columns [first, end) that hold every cell with an edge: the others stay 0 in every
+  // Per row, the columns [first, end) that hold every cell with a weight: the others stay 0 in every
   // field, so the sweeps skip them (an object's frame is mostly background).
   std::vector<int> first, end;
 
   Level(int rows_, int cols_) : rows(rows_), cols(cols_) {
-    for (Field<float>* field : {&right, &down, &diagonal, &inverse, &solution, &rhs}) *field = Field<float>(size(), cols);
+    for (Field<float>* field : {&right, &down, &anchor, &diagonal, &inverse, &solution, &rhs}) *field = Field<float>(size(), cols);
   }
   std::size_t size() const { return std::size_t(rows) * std::size_t(cols); }
 
   void set_diagonal() {
     const float* r = right.data();
     const float* d = down.data();
+    const float* a = anchor.data();
     float* diag = diagonal.data();
     float* inv = inverse.data();
     first.assign(std::size_t(rows), cols);
@@ -71,7 +73,7 @@ struct Level {
     for (int row = 0; row < rows; ++row) {
       for (int c = 0; c < cols; ++c) {
         const std::size_t i = std::size_t(row) * std::size_t(cols) + std::size_t(c);
-        diag[i] = r[i] + r[i - 1] + d[i] + d[i - std::size_t(cols)];
+        diag[i] = r[i] + r[i - 1] + d[i] + d[i - std::size_t(cols)] + a[i];
         inv[i] = diag[i] > 0.0f ? 1.0f / diag[i] : 0.0f;
         if (diag[i] > 0.0f) {
           first[std::size_t(row)] = std::min(first[std::size_t(row)], c);
@@ -80,18 +82,19 @@ struct Level {
       }
     }
   }
-  // The flat indices [begin, stop) of row r's cells with edges (empty when it has none).
+  // The flat indices [begin, stop) of row r's cells with a weight (empty when it has none).
   std::pair<std::ptrdiff_t, std::ptrdiff_t> span(int r) const {
     const std::ptrdiff_t start = std::ptrdiff_t(r) * cols;
     return {start + first[std::size_t(r)], start + std::max(end[std::size_t(r)], first[std::size_t(r)])};
   }
 };
 
-Level finest_level(const Mask& mask) {
+Level finest_level(const Mask& mask, const Anchors* anchors) {
   Level level(int(mask.rows()), int(mask.cols()));
   const bool* inside = mask.data();
   float* right = level.right.data();
   float* down = level.down.data();
+  float* anchor = level.anchor.data();
   const int rows = level.rows, cols = level.cols;
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
@@ -99,6 +102,7 @@ Level finest_level(const Mask& mask) {
       if (!inside[i]) continue;
       right[i] = c + 1 < cols && inside[i + 1] ? 1.0f : 0.0f;
       down[i] = r + 1 < rows && inside[i + cols] ? 1.0f : 0.0f;
+      if (anchors) anchor[i] = float(anchors->weight[i]);
     }
   }
   level.set_diagonal();
@@ -107,13 +111,15 @@ Level finest_level(const Mask& mask) {
 
 // Aggregation of 2 x 2 blocks: the Galerkin product P^T L P with piecewise-constant P is again a
 // graph Laplacian, whose edge between two blocks carries the summed weights of the fine edges
-// between them.
+// between them, and whose anchors are the blocks' summed anchors.
 Level coarsen(const Level& fine) {
   Level coarse((fine.rows + 1) / 2, (fine.cols + 1) / 2);
   const float* fine_right = fine.right.data();
   const float* fine_down = fine.down.data();
+  const float* fine_anchor = fine.anchor.data();
   float* right = coarse.right.data();
   float* down = coarse.down.data();
+  float* anchor = coarse.anchor.data();
   for (int r = 0; r < coarse.rows; ++r) {
     for (int c = 0; c < coarse.cols; ++c) {
       const std::size_t i = std::size_t(r) * coarse.cols + c;
@@ -121,6 +127,8 @@ Level coarsen(const Level& fine) {
       for (int k = 0; k < 2; ++k) {
         if (fr + k < fine.rows && fc + 1 < fine.cols) right[i] += fine_right[std::size_t(fr + k) * fine.cols + fc + 1];
         if (fc + k < fine.cols && fr + 1 < fine.rows) down[i] += fine_down[std::size_t(fr + 1) * fine.cols + fc + k];
+        for (int j = 0; j < 2; ++j)
+          if (fr + k < fine.rows && fc + j < fine.cols) anchor[i] += fine_anchor[std::size_t(fr + k) * fine.cols + fc + j];
       }
     }
   }
@@ -258,28 +266,31 @@ double dot(const Level& level, const double* a, const T* b, std::vector<double>&
   return in_row_order(row_sums);
 }
 
-std::vector<Level> hierarchy(const Mask& mask) {
+std::vector<Level> hierarchy(const Mask& mask, const Anchors* anchors) {
   std::vector<Level> levels;
-  levels.push_back(finest_level(mask));
+  levels.push_back(finest_level(mask, anchors));
   while (levels.back().rows > 2 || levels.back().cols > 2) levels.push_back(coarsen(levels.back()));
   return levels;
 }
 
-// b = div(rise) into b (H * W, row-major): each edge of two masked 4-neighbours pulls its ends apart
-// by its rise; a cell gathers its own four edges, so rows run in parallel.
-void write_divergence(const Mask& mask, const EdgeRises& rises, double* b) {
+// b = div(rise) + anchor weight * target into b (H * W, row-major): each edge of two masked
+// 4-neighbours pulls its ends apart by its rise (none where `rises` is empty), each anchor pulls its
+// cell toward its target; a cell gathers its own four edges, so rows run in parallel.
+void write_right_hand_side(const Mask& mask, const EdgeRises& rises, const Anchors* anchors, double* b) {
   const int rows = int(mask.rows()), cols = int(mask.cols());
   const bool* inside = mask.data();
+  const bool rising = !rises.right.empty();
   for_each_row(rows, std::size_t(mask.size()), [&](int r) {
     for (int c = 0; c < cols; ++c) {
       const std::size_t i = std::size_t(r) * cols + c;
       double sum = 0.0;
-      if (inside[i]) {
+      if (inside[i] && rising) {
         if (c + 1 < cols && inside[i + 1]) sum -= rises.right[i];
         if (c > 0 && inside[i - 1]) sum += rises.right[i - 1];
         if (r + 1 < rows && inside[i + cols]) sum -= rises.down[i];
         if (r > 0 && inside[i - std::size_t(cols)]) sum += rises.down[i - std::size_t(cols)];
       }
+      if (inside[i] && anchors) sum += anchors->weight[i] * anchors->target[i];
       b[i] = sum;
     }
   });
@@ -295,7 +306,7 @@ std::vector<double> solve_rectangle(const Mask& whole, const EdgeRises& rises) {
   constexpr double kPi = 3.14159265358979323846;
   const int rows = int(whole.rows()), cols = int(whole.cols());
   std::vector<double> field(std::size_t(whole.size()));
-  write_divergence(whole, rises, field.data());
+  write_right_hand_side(whole, rises, nullptr, field.data());
   cosine_2d(field, rows, cols, FourierDirection::Forward);
   std::vector<double> column_part(static_cast<std::size_t>(cols));
   for (int c = 0; c < cols; ++c) column_part[std::size_t(c)] = 2.0 - 2.0 * std::cos(kPi * c / cols);
@@ -311,16 +322,50 @@ std::vector<double> solve_rectangle(const Mask& whole, const EdgeRises& rises) {
   return field;
 }
 
+// The same problem on the rectangle [top, top + rows) x [left, left + cols) of the grid, which holds
+// every masked cell; solved there and written back into the whole grid.
+std::vector<double> solve_in_box(const Mask& mask, const EdgeRises& rises, double relative_tolerance,
+                                 const Progress& progress, const Anchors* anchors, int top, int left, int rows, int cols) {
+  const Eigen::Index grid_cols = mask.cols();
+  auto cropped = [&](const std::vector<double>& field) {
+    if (field.empty()) return field;
+    std::vector<double> box(std::size_t(rows) * std::size_t(cols));
+    for (int r = 0; r < rows; ++r)
+      std::copy_n(field.begin() + std::ptrdiff_t((top + r) * grid_cols + left), cols, box.begin() + std::ptrdiff_t(r * cols));
+    return box;
+  };
+  const Mask box_mask = mask.block(top, left, rows, cols);
+  const EdgeRises box_rises{cropped(rises.right), cropped(rises.down)};
+  Anchors box_anchors;
+  if (anchors) box_anchors = {cropped(anchors->weight), cropped(anchors->target)};
+  const std::vector<double> solved =
+      solve_grid_poisson(box_mask, box_rises, relative_tolerance, progress, anchors ? &box_anchors : nullptr);
+  std::vector<double> depth(std::size_t(mask.size()), 0.0);
+  for (int r = 0; r < rows; ++r)
+    std::copy_n(solved.begin() + std::ptrdiff_t(r * cols), cols, depth.begin() + std::ptrdiff_t((top + r) * grid_cols + left));
+  return depth;
+}
+
 }  // namespace
 
 std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises, double relative_tolerance,
-                                       const Progress& progress) {
-  if (mask.all()) {
+                                       const Progress& progress, const Anchors* anchors) {
+  // Only the masked cells' bounding box is worked on: the rest would be allocated and swept for nothing.
+  const Eigen::Array<bool, Eigen::Dynamic, 1> any_in_row = mask.rowwise().any(), any_in_col = mask.colwise().any().transpose();
+  int top = 0, bottom = int(mask.rows()), left = 0, right = int(mask.cols());
+  while (top < bottom && !any_in_row(top)) ++top;
+  while (bottom > top && !any_in_row(bottom - 1)) --bottom;
+  while (left < right && !any_in_col(left)) ++left;
+  while (right > left && !any_in_col(right - 1)) --right;
+  if (top == bottom) return std::vector<double>(std::size_t(mask.size()), 0.0);
+  if (bottom - top < mask.rows() || right - left < mask.cols())
+    return solve_in_box(mask, rises, relative_tolerance, progress, anchors, top, left, bottom - top, right - left);
+  if (mask.all() && !anchors) {
     std::vector<double> depth = solve_rectangle(mask, rises);
     progress.report(1.0, "integration");
     return depth;
   }
-  std::vector<Level> levels = hierarchy(mask);
+  std::vector<Level> levels = hierarchy(mask, anchors);
   Level& finest = levels.front();
   const std::size_t size = finest.size();
   const int cols = finest.cols;
@@ -335,7 +380,7 @@ std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises,
   double* lp = lp_field.data();
   float* r_single = finest.rhs.data();
   const float* z = finest.solution.data();
-  write_divergence(mask, rises, r);
+  write_right_hand_side(mask, rises, anchors, r);
   const double b_norm = std::sqrt(dot(finest, r, r, row_sums));
   std::vector<double> depth(size, 0.0);
   if (b_norm == 0.0) return depth;
