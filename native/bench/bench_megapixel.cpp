@@ -3,6 +3,8 @@
 // 1024 and 2048 pixels square, side by side in one run:
 //   default_call         reconstruct() with ReconstructOptions{} (graph cut, coarse to fine, default
 //                        integrator); counters: the stage milliseconds of result.stats;
+//   relief_call          the same as a relief (scene Relief, the light and albedo estimated), as
+//                        the add-on's Subject Relief reads a photograph of a wall;
 //   graph_cut            global_step() alone, with the parameters reconstruct() hands it;
 //   reference_expansion  the straightforward alpha-expansion of the energy global_step minimizes at its
 //                        finest level, at full resolution with every label: a fresh
@@ -28,6 +30,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -210,6 +213,21 @@ void BM_DefaultCall(benchmark::State& state) {
     state.counters[stage + "_ms"] = benchmark::Counter(1e3 * seconds / double(state.iterations()));
 }
 
+// The same field as a photograph of a wall: Subject Relief, the light estimated (the add-on's relief).
+void BM_ReliefCall(benchmark::State& state) {
+  const BumpField& field = bump_field(int(state.range(0)));
+  ReconstructOptions options;
+  options.scene = SceneKind::Relief;
+  std::map<std::string, double> stage_seconds;
+  for (auto _ : state) {
+    const Reconstruction result = reconstruct(field.image, std::nullopt, &field.mask, std::nullopt, options);
+    for (const auto& [stage, seconds] : result.stats.seconds) stage_seconds[stage] += seconds;
+    benchmark::DoNotOptimize(result.depth.data());
+  }
+  for (const auto& [stage, seconds] : stage_seconds)
+    state.counters[stage + "_ms"] = benchmark::Counter(1e3 * seconds / double(state.iterations()));
+}
+
 void BM_GraphCut(benchmark::State& state) {
   const BumpField& field = bump_field(int(state.range(0)));
   const LightFrame frame = LightFrame::from_direction(scene_light());
@@ -260,6 +278,7 @@ void register_megapixel_benchmarks() {
     bool manual_time;
   } variants[] = {
       {"default_call", BM_DefaultCall, false},
+      {"relief_call", BM_ReliefCall, false},
       {"graph_cut", BM_GraphCut, true},
       {"reference_expansion", BM_ReferenceExpansion, true},
   };

@@ -4,6 +4,7 @@
 #include <shadecut/support/rebase_depth.hpp>
 
 #include "support/masked_gradient.hpp"
+#include "support/parallel.hpp"
 
 #include <Eigen/Dense>
 
@@ -18,22 +19,47 @@ namespace {
 
 using Field = Eigen::Array<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-// A box of radius r along every row (step 1) or column (step cols) of a row-major field, the frame's
-// outside taken as zero: with the same box over the weights, normalized convolution.
-void box_pass(Field& field, int radius, bool along_rows) {
-  const Eigen::Index lines = along_rows ? field.rows() : field.cols();
-  const Eigen::Index length = along_rows ? field.cols() : field.rows();
-  const Eigen::Index stride = along_rows ? 1 : field.cols();
-  std::vector<double> line(static_cast<std::size_t>(length)), prefix(static_cast<std::size_t>(length) + 1);
-  for (Eigen::Index l = 0; l < lines; ++l) {
-    double* start = field.data() + (along_rows ? l * field.cols() : l);
-    for (Eigen::Index i = 0; i < length; ++i) prefix[std::size_t(i) + 1] = prefix[std::size_t(i)] + start[i * stride];
-    for (Eigen::Index i = 0; i < length; ++i) {
-      const Eigen::Index lo = std::max<Eigen::Index>(0, i - radius), hi = std::min<Eigen::Index>(length, i + radius + 1);
-      line[std::size_t(i)] = prefix[std::size_t(hi)] - prefix[std::size_t(lo)];
+// Columns handed to a thread at once by the vertical box: a band of rows of them stays in cache.
+constexpr int kColumnsPerChunk = 256;
+constexpr int kRowsPerChunk = 32;
+
+// A box of radius r along every row of a row-major field, the frame's outside taken as zero: each row
+// its own prefix sums. Rows run in parallel.
+void box_along_rows(Field& field, int radius) {
+  const Eigen::Index length = field.cols();
+  detail::parallel_ranges(int(field.rows()), kRowsPerChunk, 0, [&](int begin, int end) {
+    std::vector<double> prefix(static_cast<std::size_t>(length) + 1, 0.0);
+    for (int r = begin; r < end; ++r) {
+      double* row = field.data() + r * length;
+      for (Eigen::Index i = 0; i < length; ++i) prefix[std::size_t(i) + 1] = prefix[std::size_t(i)] + row[i];
+      for (Eigen::Index i = 0; i < length; ++i)
+        row[i] = prefix[std::size_t(std::min<Eigen::Index>(length, i + radius + 1))] -
+                 prefix[std::size_t(std::max<Eigen::Index>(0, i - radius))];
     }
-    for (Eigen::Index i = 0; i < length; ++i) start[i * stride] = line[std::size_t(i)];
-  }
+  });
+}
+
+// The same box down every column: a window of rows slid down, its sum kept per column, so that
+// memory is read a row at a time (a column at a time strides across the whole field for each
+// value). Bands of columns run in parallel; every column's sums are taken in the same order.
+void box_down_columns(Field& field, int radius) {
+  const Eigen::Index rows = field.rows(), cols = field.cols();
+  Field out(rows, cols);
+  detail::parallel_ranges(int(cols), kColumnsPerChunk, 0, [&](int begin, int end) {
+    const Eigen::Index width = end - begin;
+    std::vector<double> window(static_cast<std::size_t>(width), 0.0);
+    auto add_row = [&](Eigen::Index r, double sign) {
+      const double* row = field.data() + r * cols + begin;
+      for (Eigen::Index c = 0; c < width; ++c) window[std::size_t(c)] += sign * row[c];
+    };
+    for (Eigen::Index r = 0; r <= std::min<Eigen::Index>(radius, rows - 1); ++r) add_row(r, 1.0);
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      std::copy(window.begin(), window.end(), out.data() + r * cols + begin);
+      if (r + radius + 1 < rows) add_row(r + radius + 1, 1.0);
+      if (r - radius >= 0) add_row(r - radius, -1.0);
+    }
+  });
+  field = std::move(out);
 }
 
 // The masked Gaussian blur of `values` (standard deviation sigma pixels): three boxes each way, whose
@@ -41,13 +67,26 @@ void box_pass(Field& field, int radius, bool along_rows) {
 Field masked_blur(const Field& values, const Mask& mask, double sigma) {
   const double largest = double(std::max(mask.rows(), mask.cols()));
   const int radius = int(std::lround((std::sqrt(4.0 * std::min(sigma, largest) * std::min(sigma, largest) + 1.0) - 1.0) / 2.0));
-  Field weights = mask.cast<double>().array();
-  Field blurred = weights * values;
-  for (Field* field : {&blurred, &weights})
+  auto blur = [radius](Field& field) {
     for (int pass = 0; pass < 3; ++pass) {
-      box_pass(*field, radius, true);
-      box_pass(*field, radius, false);
+      box_along_rows(field, radius);
+      box_down_columns(field, radius);
     }
+  };
+  Field weights;
+  if (mask.all()) {
+    // A whole frame's weights are the product of a column's and a row's, each blurred alone (the
+    // same integers the whole field's passes give): half the work of a relief's blur.
+    Field down = Field::Ones(mask.rows(), 1), across = Field::Ones(1, mask.cols());
+    blur(down);
+    blur(across);
+    weights = down.matrix() * across.matrix();
+  } else {
+    weights = mask.cast<double>().array();
+    blur(weights);
+  }
+  Field blurred = mask.cast<double>().array() * values;
+  blur(blurred);
   return (weights > 0.0).select(blurred / weights.max(1e-300), 0.0) * mask.cast<double>().array();
 }
 
@@ -124,13 +163,13 @@ void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {
   if (mask.count() < 3) return;
   // z = a x + b y + c; removing it changes the gradients (p, q) by (-a, -b) everywhere.
   const Eigen::Vector3d plane = normal_matrix.ldlt().solve(rhs);
-  for (Eigen::Index r = 0; r < depth.rows(); ++r) {
+  detail::parallel_for(int(depth.rows()), kRowsPerChunk, 0, [&](int r) {
     for (Eigen::Index c = 0; c < depth.cols(); ++c) {
       if (!mask(r, c)) continue;
       depth(r, c) -= float(plane.x() * double(c) - plane.y() * double(r) + plane.z());
       subtract_slope(normals.xyz.row(r * depth.cols() + c), plane.x(), plane.y());
     }
-  }
+  });
   rebase_depth(depth, mask);
 }
 
@@ -138,17 +177,23 @@ double relief_scale(const ImageF& image, const Mask& mask) {
   const double floor = 1e-3 * median_intensity(image, mask);
   Field logarithm = image.cast<double>().array().max(floor).log();
   logarithm = masked_blur(logarithm, mask, 1.0);
-  double sum = 0.0, squares = 0.0, slopes = 0.0;
-  Eigen::Index count = 0;
-  for (Eigen::Index r = 0; r < image.rows(); ++r)
+  // Sums per row in parallel, then over the rows in order: the same bits for any number of threads.
+  std::vector<Eigen::Array3d> row_sums(static_cast<std::size_t>(image.rows()), Eigen::Array3d::Zero());
+  detail::parallel_for(int(image.rows()), kRowsPerChunk, 0, [&](int r) {
+    Eigen::Array3d& sums = row_sums[std::size_t(r)];
     for (Eigen::Index c = 0; c < image.cols(); ++c) {
       if (!mask(r, c)) continue;
-      sum += logarithm(r, c);
-      squares += logarithm(r, c) * logarithm(r, c);
-      const detail::MaskedGradient slope = detail::masked_gradient(logarithm, mask, int(r), int(c));
-      slopes += slope.dx * slope.dx + slope.dy * slope.dy;
-      ++count;
+      const detail::MaskedGradient slope = detail::masked_gradient(logarithm, mask, r, int(c));
+      sums += Eigen::Array3d(logarithm(r, c), logarithm(r, c) * logarithm(r, c), slope.dx * slope.dx + slope.dy * slope.dy);
     }
+  });
+  double sum = 0.0, squares = 0.0, slopes = 0.0;
+  for (const Eigen::Array3d& sums : row_sums) {
+    sum += sums[0];
+    squares += sums[1];
+    slopes += sums[2];
+  }
+  const Eigen::Index count = mask.count();
   const double mean = sum / double(count);
   const double variance = std::max(0.0, squares / double(count) - mean * mean);
   // A uniform image has no scale (its blurred logarithm differs from a constant by rounding alone).
@@ -159,14 +204,14 @@ double relief_scale(const ImageF& image, const Mask& mask) {
 void damp_large_forms(ImageF& depth, NormalMap& normals, const Mask& mask, double detail_size) {
   if (!(detail_size > 0.0)) throw InvalidArgument("shadecut: the detail size must be > 0 pixels");
   const Field low = masked_blur(depth.cast<double>().array(), mask, 0.187 * detail_size);
-  for (Eigen::Index r = 0; r < depth.rows(); ++r) {
+  detail::parallel_for(int(depth.rows()), kRowsPerChunk, 0, [&](int r) {
     for (Eigen::Index c = 0; c < depth.cols(); ++c) {
       if (!mask(r, c)) continue;
       depth(r, c) -= float(low(r, c));
-      const detail::MaskedGradient slope = detail::masked_gradient(low, mask, int(r), int(c));
+      const detail::MaskedGradient slope = detail::masked_gradient(low, mask, r, int(c));
       subtract_slope(normals.xyz.row(r * depth.cols() + c), slope.dx, slope.dy);
     }
-  }
+  });
   rebase_depth(depth, mask);
 }
 
