@@ -73,19 +73,9 @@ Field masked_blur(const Field& values, const Mask& mask, double sigma) {
       box_down_columns(field, radius);
     }
   };
-  Field weights;
-  if (mask.all()) {
-    // A whole frame's weights are the product of a column's and a row's, each blurred alone (the
-    // same integers the whole field's passes give): half the work of a relief's blur.
-    Field down = Field::Ones(mask.rows(), 1), across = Field::Ones(1, mask.cols());
-    blur(down);
-    blur(across);
-    weights = down.matrix() * across.matrix();
-  } else {
-    weights = mask.cast<double>().array();
-    blur(weights);
-  }
-  Field blurred = mask.cast<double>().array() * values;
+  Field weights = mask.cast<double>().array();
+  Field blurred = weights * values;
+  blur(weights);
   blur(blurred);
   return (weights > 0.0).select(blurred / weights.max(1e-300), 0.0) * mask.cast<double>().array();
 }
