@@ -23,7 +23,7 @@ The paint separation (albedo_method retinex) is chosen by the same procedure wit
 training surfaces painted (shadecut.synthetic.paint: patches, stripes, text, seeds of their own) and
 plain, under their own light, with sensor noise (sigma = 0.01 sqrt(I) + 0.003 per channel), scored by
 graphcut's mean angular error (true light, albedo estimated): first the two edge thresholds together,
-then the rim, then the highlight factor on the same renders with each Blinn-Phong lobe of the albedo's
+then the share of the albedo below which a pixel is shadow, then the rim, then the highlight factor on the same renders with each Blinn-Phong lobe of the albedo's
 training (TRAINING_HIGHLIGHTS, up to twice the diffuse albedo, clipped at 1) too; last, retinex
 with the chosen values against top_fit decides albedo_method's default.
 
@@ -280,7 +280,8 @@ def tune_light_method(surfaces: dict) -> None:
     print(f"  chosen: {min(scored)[1]}")
 
 
-RETINEX_EDGES = [(chroma, intensity) for chroma in (0.01, 0.02, 0.04, 0.08) for intensity in (0.0, 0.05, 0.1, 0.2)]
+RETINEX_EDGES = [(chroma, intensity) for chroma in (0.01, 0.02, 0.04, 0.08) for intensity in (0.0, 0.05, 0.1, 0.2, 0.5, 1.0)]
+RETINEX_SHADOWS = (0.005, 0.01, 0.02, 0.05)
 RETINEX_RIMS = (0, 2, 4, 8)
 RETINEX_HIGHLIGHTS = (0.0, 1.0, 1.2, 1.5)
 PAINT_SEED = 100  # the tests paint with seeds below 100
@@ -310,13 +311,18 @@ def tune_retinex(surfaces: dict) -> None:
                               for image, scene in renders]))
 
     renders = painted_renders(surfaces)
-    chosen = {"albedo_method": "retinex", "retinex_rim": 4, "retinex_highlight": 0.0}
+    chosen = {"albedo_method": "retinex", "retinex_rim": 4, "retinex_highlight": 0.0, "retinex_shadow": 0.05}
     print(f"retinex: graphcut's mean error over {len(renders)} painted and plain noisy training renders")
     scored = []
     for chroma, intensity in RETINEX_EDGES:
         scored.append((score(renders, **chosen, retinex_chroma_edge=chroma, retinex_intensity_edge=intensity), chroma, intensity))
         print(f"  chroma_edge {chroma}, intensity_edge {intensity}: {scored[-1][0]:.2f} deg", flush=True)
     _, chosen["retinex_chroma_edge"], chosen["retinex_intensity_edge"] = min(scored)
+    by_shadow = []
+    for shadow in RETINEX_SHADOWS:
+        by_shadow.append((score(renders, **{**chosen, "retinex_shadow": shadow}), shadow))
+        print(f"  shadow {shadow}: {by_shadow[-1][0]:.2f} deg", flush=True)
+    chosen["retinex_shadow"] = min(by_shadow)[1]
     by_rim = []
     for rim in RETINEX_RIMS:
         by_rim.append((score(renders, **{**chosen, "retinex_rim": rim}), rim))

@@ -62,7 +62,7 @@ struct Cues {
 Cues read_cues(const ImageF& intensity, const ColourImage* colour, const Mask& mask, const ReflectanceParams& params) {
   Cues cues;
   const double albedo = estimate_albedo(intensity, mask);
-  const double dark = kReflectanceDarkShare * albedo;
+  const double dark = params.shadow * albedo;
   const double bright = params.highlight > 0.0 ? params.highlight * albedo : INFINITY;
   cues.readable = mask && intensity > float(dark) && intensity <= float(bright);
   cues.log_intensity = intensity.max(1e-12f).log();
@@ -154,8 +154,8 @@ Reflectance estimate_reflectance(const ImageF& intensity, const ColourImage* col
     }
   }
   if (!(params.chroma_edge >= 0.0) || !std::isfinite(params.chroma_edge) || !std::isfinite(params.intensity_edge) ||
-      !std::isfinite(params.highlight) || params.rim < 0)
-    throw InvalidArgument("shadecut: the reflectance settings must be finite, chroma_edge and rim >= 0");
+      !std::isfinite(params.highlight) || params.rim < 0 || !(params.shadow >= 0.0 && params.shadow < 1.0))
+    throw InvalidArgument("shadecut: the reflectance settings must be finite, chroma_edge and rim >= 0, shadow in [0, 1)");
   progress.report(0.0, "albedo");
   const Cues cues = read_cues(intensity, colour, mask, params);
   Reflectance result;

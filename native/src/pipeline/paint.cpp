@@ -23,6 +23,8 @@ void check_paint_options(const ReconstructOptions& options) {
     throw InvalidArgument("shadecut: retinex_intensity_edge must be finite (<= 0: off)");
   if (!finite(options.retinex_highlight))
     throw InvalidArgument("shadecut: retinex_highlight must be finite (<= 0: none)");
+  if (!(options.retinex_shadow >= 0.0 && options.retinex_shadow < 1.0))
+    throw InvalidArgument("shadecut: retinex_shadow must be in [0, 1) (a share of the albedo); got " + number_text(options.retinex_shadow));
   if (options.retinex_rim < 0)
     throw InvalidArgument("shadecut: retinex_rim must be >= 0; got " + std::to_string(options.retinex_rim));
 }
@@ -86,6 +88,7 @@ ReflectanceParams reflectance_params(const ReconstructOptions& options) {
   params.intensity_edge = options.retinex_intensity_edge;
   params.rim = options.scene == SceneKind::Object ? options.retinex_rim : 0;
   params.highlight = options.retinex_highlight;
+  params.shadow = options.retinex_shadow;
   return params;
 }
 

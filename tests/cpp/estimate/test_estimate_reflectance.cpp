@@ -109,6 +109,9 @@ TEST(EstimateReflectance, BadInputIsRefused) {
   ReflectanceParams negative_rim = params();
   negative_rim.rim = -1;
   EXPECT_THROW(estimate_reflectance(painted.intensity, &painted.colour, painted.scene.mask, negative_rim), InvalidArgument);
+  ReflectanceParams all_shadow = params();
+  all_shadow.shadow = 1.0;
+  EXPECT_THROW(estimate_reflectance(painted.intensity, &painted.colour, painted.scene.mask, all_shadow), InvalidArgument);
   ColourImage small = painted.colour;
   small.channel[2] = ImageF::Zero(4, 4);
   EXPECT_THROW(estimate_reflectance(painted.intensity, &small, painted.scene.mask, params()), InvalidArgument);

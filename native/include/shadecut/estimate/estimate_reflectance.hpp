@@ -20,11 +20,15 @@ struct ReflectanceParams {
   /// off fastest toward its outline (objects only; 0 for reliefs).
   int rim{};
   /// Pixels brighter than this times the image's albedo (top_fit), which no Lambertian surface shows,
-  /// are highlights and read no paint, like shadows (below kReflectanceDarkShare of it). <= 0: none.
+  /// are highlights and read no paint, like shadows. <= 0: none.
   double highlight{};
+  /// Pixels darker than this share of the image's albedo (top_fit) are shadow and read no paint; a
+  /// dark paint in the light is brighter than that (in [0, 1)).
+  double shadow{};
 };
 
-/// Pixels darker than this share of the albedo are shadow to the decomposition: no edge is read there.
+/// reflectance_colour reads a pixel's colour only where it is brighter than this share of the
+/// brightest pixel: darker ones are spread into from their neighbours.
 constexpr double kReflectanceDarkShare = 0.05;
 
 struct Reflectance {

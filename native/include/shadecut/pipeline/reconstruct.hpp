@@ -99,12 +99,13 @@ struct ReconstructOptions {
   /// How the albedo is read when none is given: one value (top_fit, brightest) with a light given, or
   /// per pixel (retinex: the paint separated from the shading first, estimate_reflectance.hpp).
   AlbedoMethod albedo_method = AlbedoMethod::TopFit;
-  /// retinex: ReflectanceParams' chroma_edge, intensity_edge (<= 0 off), rim (objects) and highlight
-  /// (<= 0 none), tuned (docs/parameters.md).
+  /// retinex: ReflectanceParams' chroma_edge, intensity_edge (<= 0 off), rim (objects), highlight
+  /// (<= 0 none) and shadow, tuned (docs/parameters.md).
   double retinex_chroma_edge = 0.02;
   double retinex_intensity_edge = 0.2;
   int retinex_rim = 0;
   double retinex_highlight = 0.0;
+  double retinex_shadow = 0.05;
   /// Pixels brighter than this times the albedo, which no Lambertian surface of that albedo shows
   /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never
   /// (the default, tuned: docs/parameters.md).
