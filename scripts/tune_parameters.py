@@ -23,9 +23,10 @@ The paint separation (albedo_method retinex) is chosen by the same procedure wit
 training surfaces painted (shadecut.synthetic.paint: patches, stripes, text, seeds of their own) and
 plain, under their own light, with sensor noise (sigma = 0.01 sqrt(I) + 0.003 per channel), scored by
 graphcut's mean angular error (true light, albedo estimated): first the two edge thresholds together,
-then the share of the albedo below which a pixel is shadow, then the rim, then the highlight factor on the same renders with each Blinn-Phong lobe of the albedo's
-training (TRAINING_HIGHLIGHTS, up to twice the diffuse albedo, clipped at 1) too; last, retinex
-with the chosen values against top_fit decides albedo_method's default.
+then the share of the albedo below which a pixel is shadow, then the rim, then the highlight factor
+on the same renders with each Blinn-Phong lobe of the albedo's training (TRAINING_HIGHLIGHTS, up to
+twice the diffuse albedo, clipped at 1) too; last, retinex with the chosen values against top_fit
+decides albedo_method's default.
 
 graphcut's coarse_to_fine_radius trades speed for accuracy, so it is not chosen by the lowest error
 but, with --band-radius, as the smallest radius whose mean error on the training surfaces (at 256
