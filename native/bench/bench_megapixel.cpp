@@ -5,6 +5,7 @@
 //                        integrator); counters: the stage milliseconds of result.stats;
 //   relief_call          the same as a relief (scene Relief, the light and albedo estimated), as
 //                        the add-on's Subject Relief reads a photograph of a wall;
+//   relief_light         the relief call's light estimate alone (estimate_light, LightMethod::Relief);
 //   graph_cut            global_step() alone, with the parameters reconstruct() hands it;
 //   reference_expansion  the straightforward alpha-expansion of the energy global_step minimizes at its
 //                        finest level, at full resolution with every label: a fresh
@@ -15,6 +16,7 @@
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=BM_Megapixel --benchmark_repetitions=3
 // or scripts/benchmark_megapixel.py, which prints the medians and their ratios as a table.
+#include <shadecut/estimate/estimate_light.hpp>
 #include <shadecut/graphcut/global_step.hpp>
 #include <shadecut/graphcut/maxflow.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
@@ -228,6 +230,14 @@ void BM_ReliefCall(benchmark::State& state) {
     state.counters[stage + "_ms"] = benchmark::Counter(1e3 * seconds / double(state.iterations()));
 }
 
+void BM_ReliefLight(benchmark::State& state) {
+  const BumpField& field = bump_field(int(state.range(0)));
+  for (auto _ : state) {
+    const LightEstimate estimate = estimate_light(field.image, field.mask, LightMethod::Relief, std::nullopt);
+    benchmark::DoNotOptimize(estimate.light.data());
+  }
+}
+
 void BM_GraphCut(benchmark::State& state) {
   const BumpField& field = bump_field(int(state.range(0)));
   const LightFrame frame = LightFrame::from_direction(scene_light());
@@ -279,6 +289,7 @@ void register_megapixel_benchmarks() {
   } variants[] = {
       {"default_call", BM_DefaultCall, false},
       {"relief_call", BM_ReliefCall, false},
+      {"relief_light", BM_ReliefLight, false},
       {"graph_cut", BM_GraphCut, true},
       {"reference_expansion", BM_ReferenceExpansion, true},
   };
