@@ -30,26 +30,36 @@ constexpr int kDirections = 360;
 // transformed: the image minus the smooth field whose Laplacian is the jump across the frame's
 // opposite edges, so that those edges add no spectrum along the axes.
 std::vector<std::complex<double>> periodic_spectrum(const std::vector<double>& field, int rows, int cols) {
-  std::vector<std::complex<double>> spectrum(field.begin(), field.end());
-  std::vector<std::complex<double>> boundary(field.size(), 0.0);
   auto at = [cols](int r, int c) { return std::size_t(r) * std::size_t(cols) + std::size_t(c); };
-  for (int c = 0; c < cols; ++c) {
-    const double jump = field[at(rows - 1, c)] - field[at(0, c)];
-    boundary[at(0, c)] += jump;
-    boundary[at(rows - 1, c)] -= jump;
-  }
+  // The jumps lie on the frame's edges only, so their spectrum is two 1-D transforms: the jump down
+  // column c, j(c), added at (0, c) and taken at (rows - 1, c), transforms to
+  // (1 - e^{2 pi i u / rows}) J(v), and likewise across the rows. (A 2-D transform of the jumps' field
+  // cost as much as the image's own.)
+  std::vector<std::complex<double>> down(static_cast<std::size_t>(cols)), across(static_cast<std::size_t>(rows));
+  for (int c = 0; c < cols; ++c) down[std::size_t(c)] = field[at(rows - 1, c)] - field[at(0, c)];
+  for (int r = 0; r < rows; ++r) across[std::size_t(r)] = field[at(r, cols - 1)] - field[at(r, 0)];
+  fourier_2d(down, 1, cols, FourierDirection::Forward);
+  fourier_2d(across, rows, 1, FourierDirection::Forward);
+  std::vector<double> row_cosine(static_cast<std::size_t>(rows)), column_cosine(static_cast<std::size_t>(cols));
+  std::vector<std::complex<double>> row_edge(static_cast<std::size_t>(rows)), column_edge(static_cast<std::size_t>(cols));
   for (int r = 0; r < rows; ++r) {
-    const double jump = field[at(r, cols - 1)] - field[at(r, 0)];
-    boundary[at(r, 0)] += jump;
-    boundary[at(r, cols - 1)] -= jump;
+    row_cosine[std::size_t(r)] = std::cos(2.0 * M_PI * r / rows);
+    row_edge[std::size_t(r)] = 1.0 - std::polar(1.0, 2.0 * M_PI * r / rows);
   }
+  for (int c = 0; c < cols; ++c) {
+    column_cosine[std::size_t(c)] = std::cos(2.0 * M_PI * c / cols);
+    column_edge[std::size_t(c)] = 1.0 - std::polar(1.0, 2.0 * M_PI * c / cols);
+  }
+
+  std::vector<std::complex<double>> spectrum(field.begin(), field.end());
   fourier_2d(spectrum, rows, cols, FourierDirection::Forward);
-  fourier_2d(boundary, rows, cols, FourierDirection::Forward);
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
-      const double laplacian = 2.0 * std::cos(2.0 * M_PI * r / rows) + 2.0 * std::cos(2.0 * M_PI * c / cols) - 4.0;
       if (r == 0 && c == 0) continue;
-      spectrum[at(r, c)] -= boundary[at(r, c)] / laplacian;
+      const double laplacian = 2.0 * row_cosine[std::size_t(r)] + 2.0 * column_cosine[std::size_t(c)] - 4.0;
+      const std::complex<double> boundary = row_edge[std::size_t(r)] * down[std::size_t(c)] +
+                                            column_edge[std::size_t(c)] * across[std::size_t(r)];
+      spectrum[at(r, c)] -= boundary / laplacian;
     }
   }
   return spectrum;
