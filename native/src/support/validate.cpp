@@ -3,15 +3,35 @@
 #include <shadecut/support/errors.hpp>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <cstdio>
 
 namespace shadecut {
+
+namespace {
+
+// Eigen's allFinite() tests value by value (23 ms at 4 MP, called at every stage's entry); a float is
+// finite unless its exponent bits are all ones, which a loop without branches tests 8 at a time.
+bool all_finite(const ImageF& image) {
+  constexpr std::uint32_t kExponent = 0x7f800000u;
+  const float* values = image.data();
+  std::uint32_t infinite = 0;
+  for (Eigen::Index i = 0; i < image.size(); ++i) {
+    std::uint32_t bits;
+    std::memcpy(&bits, values + i, sizeof bits);
+    infinite |= std::uint32_t((bits & kExponent) == kExponent);
+  }
+  return infinite == 0;
+}
+
+}  // namespace
 
 void check_image(const ImageF& image, const std::string& what) {
   if (image.rows() < 2 || image.cols() < 2)
     throw InvalidArgument("shadecut: the " + what + " is " + std::to_string(image.rows()) + " x " +
                           std::to_string(image.cols()) + " pixels; at least 2 x 2 are needed");
-  if (!image.allFinite()) throw InvalidArgument("shadecut: the " + what + " has NaN or infinite pixels");
+  if (!all_finite(image)) throw InvalidArgument("shadecut: the " + what + " has NaN or infinite pixels");
 }
 
 void check_mask(const Mask& mask, const ImageF& image) {
