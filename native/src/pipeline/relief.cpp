@@ -39,17 +39,17 @@ void box_along_rows(Field& field, int radius) {
   });
 }
 
-// The same box down every column: a window of rows slid down, its sum kept per column, so that
-// memory is read a row at a time (a column at a time strides across the whole field for each
-// value). Bands of columns run in parallel; every column's sums are taken in the same order.
-void box_down_columns(Field& field, int radius) {
-  const Eigen::Index rows = field.rows(), cols = field.cols();
-  Field out(rows, cols);
+// The same box down every column of `in`, written to `out` (the same size, not `in`): a window of rows
+// slid down, its sum kept per column, so that memory is read a row at a time (a column at a time
+// strides across the whole field for each value). Bands of columns run in parallel; every column's
+// sums are taken in the same order.
+void box_down_columns(const Field& in, Field& out, int radius) {
+  const Eigen::Index rows = in.rows(), cols = in.cols();
   detail::parallel_ranges(int(cols), kColumnsPerChunk, 0, [&](int begin, int end) {
     const Eigen::Index width = end - begin;
     std::vector<double> window(static_cast<std::size_t>(width), 0.0);
     auto add_row = [&](Eigen::Index r, double sign) {
-      const double* row = field.data() + r * cols + begin;
+      const double* row = in.data() + r * cols + begin;
       for (Eigen::Index c = 0; c < width; ++c) window[std::size_t(c)] += sign * row[c];
     };
     for (Eigen::Index r = 0; r <= std::min<Eigen::Index>(radius, rows - 1); ++r) add_row(r, 1.0);
@@ -59,7 +59,6 @@ void box_down_columns(Field& field, int radius) {
       if (r - radius >= 0) add_row(r - radius, -1.0);
     }
   });
-  field = std::move(out);
 }
 
 // The masked Gaussian blur of `values` (standard deviation sigma pixels): three boxes each way, whose
@@ -67,17 +66,46 @@ void box_down_columns(Field& field, int radius) {
 Field masked_blur(const Field& values, const Mask& mask, double sigma) {
   const double largest = double(std::max(mask.rows(), mask.cols()));
   const int radius = int(std::lround((std::sqrt(4.0 * std::min(sigma, largest) * std::min(sigma, largest) + 1.0) - 1.0) / 2.0));
-  auto blur = [radius](Field& field) {
+  // One scratch field for every column pass: a fresh 8-byte-per-pixel field each pass costs more in
+  // page faults than the pass itself at 4 MP.
+  Field scratch(values.rows(), values.cols());
+  auto blur = [radius, &scratch](Field& field) {
     for (int pass = 0; pass < 3; ++pass) {
       box_along_rows(field, radius);
-      box_down_columns(field, radius);
+      box_down_columns(field, scratch, radius);
+      field.swap(scratch);
     }
   };
+  if (mask.all()) {
+    // A full frame's blurred mask is separable, the product of two 1-D blurs of ones: only the values
+    // are blurred in 2-D.
+    auto blurred_ones = [&](Eigen::Index length) {
+      Field ones = Field::Ones(1, length);
+      for (int pass = 0; pass < 3; ++pass) box_along_rows(ones, radius);
+      return ones;
+    };
+    const Field across = blurred_ones(values.cols()), down = blurred_ones(values.rows());
+    Field blurred = values;
+    blur(blurred);
+    detail::parallel_for(int(values.rows()), kRowsPerChunk, 0, [&](int r) { blurred.row(r) /= down(0, r) * across.row(0); });
+    return blurred;
+  }
   Field weights = mask.cast<double>().array();
   Field blurred = weights * values;
   blur(weights);
   blur(blurred);
-  return (weights > 0.0).select(blurred / weights.max(1e-300), 0.0) * mask.cast<double>().array();
+  // Coefficient-wise, so written over `blurred` without a temporary.
+  blurred = (weights > 0.0).select(blurred / weights.max(1e-300), 0.0) * mask.cast<double>().array();
+  return blurred;
+}
+
+// log(max(image, floor)) in double, rows in parallel (a serial pass costs 40 ms at 4 MP).
+Field parallel_logarithm(const ImageF& image, double floor) {
+  Field logarithm(image.rows(), image.cols());
+  detail::parallel_for(int(image.rows()), kRowsPerChunk, 0, [&](int r) {
+    logarithm.row(r) = image.row(r).cast<double>().max(floor).log();
+  });
+  return logarithm;
 }
 
 // The normal turned as the surface is when the plane z = a x + b y is subtracted from it: its
@@ -111,13 +139,14 @@ Mask bright_lines(const ImageF& image, const Mask& mask, int width, double contr
   if (!(contrast > 1.0)) throw InvalidArgument("shadecut: a bright line's contrast must be > 1; got " + std::to_string(contrast));
   Mask lines = Mask::Constant(image.rows(), image.cols(), false);
   if (width < 2) return lines;
-  const Field logarithm = (image.cast<double>().array().max(1e-6)).log();
+  const Field logarithm = parallel_logarithm(image, 1e-6);
   const double step = std::log(contrast);
   const int reach = width / 2;
-  for (Eigen::Index r = 0; r < image.rows(); ++r)
+  detail::parallel_for(int(image.rows()), kRowsPerChunk, 0, [&](int r) {
     for (Eigen::Index c = 0; c < image.cols(); ++c)
       lines(r, c) = mask(r, c) && (above_both_sides(logarithm, mask, r, c, 0, 1, reach, step) ||
                                    above_both_sides(logarithm, mask, r, c, 1, 0, reach, step));
+  });
   const Eigen::Index marked = lines.count(), black = (mask && image.array() <= 0.0f).count();
   if (4 * marked > mask.count() || 2 * (marked + black) >= mask.count()) lines.setConstant(false);
   return lines;
@@ -140,15 +169,25 @@ double relief_albedo(const ImageF& image, const Mask& mask, const Eigen::Vector3
 }
 
 void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {
-  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-  for (Eigen::Index r = 0; r < depth.rows(); ++r) {
+  // Least squares of z = a x + b y + c with x = c, y = -r. A row's sums (count, x, x^2, z, x z) are
+  // taken in parallel and added in row order: the same bits for any number of threads.
+  std::vector<Eigen::Array<double, 5, 1>> row_sums(static_cast<std::size_t>(depth.rows()));
+  detail::parallel_for(int(depth.rows()), kRowsPerChunk, 0, [&](int r) {
+    Eigen::Array<double, 5, 1> sums = Eigen::Array<double, 5, 1>::Zero();
     for (Eigen::Index c = 0; c < depth.cols(); ++c) {
       if (!mask(r, c)) continue;
-      const Eigen::Vector3d basis(double(c), -double(r), 1.0);
-      normal_matrix += basis * basis.transpose();
-      rhs += basis * double(depth(r, c));
+      const double x = double(c), z = double(depth(r, c));
+      sums += Eigen::Array<double, 5, 1>(1.0, x, x * x, z, x * z);
     }
+    row_sums[std::size_t(r)] = sums;
+  });
+  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  for (std::size_t r = 0; r < row_sums.size(); ++r) {
+    const Eigen::Array<double, 5, 1>& sums = row_sums[r];
+    const double y = -double(r), count = sums[0], x = sums[1];
+    normal_matrix += (Eigen::Matrix3d() << sums[2], y * x, x, y * x, y * y * count, y * count, x, y * count, count).finished();
+    rhs += Eigen::Vector3d(sums[4], y * sums[3], sums[3]);
   }
   if (mask.count() < 3) return;
   // z = a x + b y + c; removing it changes the gradients (p, q) by (-a, -b) everywhere.
@@ -165,8 +204,7 @@ void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {
 
 double relief_scale(const ImageF& image, const Mask& mask) {
   const double floor = 1e-3 * median_intensity(image, mask);
-  Field logarithm = image.cast<double>().array().max(floor).log();
-  logarithm = masked_blur(logarithm, mask, 1.0);
+  const Field logarithm = masked_blur(parallel_logarithm(image, floor), mask, 1.0);
   // Sums per row in parallel, then over the rows in order: the same bits for any number of threads.
   std::vector<Eigen::Array3d> row_sums(static_cast<std::size_t>(image.rows()), Eigen::Array3d::Zero());
   detail::parallel_for(int(image.rows()), kRowsPerChunk, 0, [&](int r) {
