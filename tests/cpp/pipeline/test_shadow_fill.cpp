@@ -97,5 +97,22 @@ TEST(ShadowFill, WithoutAnOutlineAndInARegionWithNoKnownNeighbourItEqualsTheDire
   EXPECT_LT((filled.xyz - direct.xyz).cwiseAbs().maxCoeff(), 1e-4f);
 }
 
+TEST(ShadowFill, ScatteredRegionsEachSolvedInTheirOwnBoxEqualTheDirectSolve) {
+  // Attached shadows as a bump field has them: many small regions over the frame, single pixels
+  // among them, one touching the frame's corner; the direct solve takes them as one system.
+  const testing::Scene scene = testing::bumps_scene(80, Eigen::Vector3d(0.7, 0.2, 1));
+  const Mask mask = Mask::Constant(80, 80, true);
+  Mask fill = Mask::Constant(80, 80, false);
+  for (int r = 0; r < 80; ++r)
+    for (int c = 0; c < 80; ++c) fill(r, c) = (7 * r + 13 * c) % 29 == 0;
+  fill.block(10, 20, 3, 5) = true;
+  fill.block(50, 5, 6, 2) = true;
+  fill.block(0, 0, 2, 2) = true;
+  NormalMap filled = scene.normals;
+  EXPECT_EQ(fill_normals(filled, fill, mask, false), fill.count());
+  const NormalMap direct = direct_fill(scene.normals, fill, mask, Mask::Constant(80, 80, false));
+  EXPECT_LT((filled.xyz - direct.xyz).cwiseAbs().maxCoeff(), 1e-4f);
+}
+
 }  // namespace
 }  // namespace shadecut
