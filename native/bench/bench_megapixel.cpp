@@ -16,6 +16,8 @@
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=BM_Megapixel --benchmark_repetitions=3
 // or scripts/benchmark_megapixel.py, which prints the medians and their ratios as a table.
+#include "bench_stages.hpp"
+
 #include <shadecut/estimate/estimate_light.hpp>
 #include <shadecut/graphcut/global_step.hpp>
 #include <shadecut/graphcut/maxflow.hpp>
@@ -207,12 +209,10 @@ void BM_DefaultCall(benchmark::State& state) {
   std::map<std::string, double> stage_seconds;
   for (auto _ : state) {
     const Reconstruction result = reconstruct(field.image, scene_light(), &field.mask, kAlbedo, ReconstructOptions{});
-    for (const auto& [stage, seconds] : result.stats.seconds) stage_seconds[stage] += seconds;
-    stage_seconds["maxflow"] += result.stats.maxflow_seconds;
+    bench::add_stages(result.stats, stage_seconds);
     benchmark::DoNotOptimize(result.depth.data());
   }
-  for (const auto& [stage, seconds] : stage_seconds)
-    state.counters[stage + "_ms"] = benchmark::Counter(1e3 * seconds / double(state.iterations()));
+  bench::report_stages(state, stage_seconds);
 }
 
 // The same field as a photograph of a wall: Subject Relief, the light estimated (the add-on's relief).
@@ -223,11 +223,10 @@ void BM_ReliefCall(benchmark::State& state) {
   std::map<std::string, double> stage_seconds;
   for (auto _ : state) {
     const Reconstruction result = reconstruct(field.image, std::nullopt, &field.mask, std::nullopt, options);
-    for (const auto& [stage, seconds] : result.stats.seconds) stage_seconds[stage] += seconds;
+    bench::add_stages(result.stats, stage_seconds);
     benchmark::DoNotOptimize(result.depth.data());
   }
-  for (const auto& [stage, seconds] : stage_seconds)
-    state.counters[stage + "_ms"] = benchmark::Counter(1e3 * seconds / double(state.iterations()));
+  bench::report_stages(state, stage_seconds);
 }
 
 void BM_ReliefLight(benchmark::State& state) {

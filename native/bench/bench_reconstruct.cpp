@@ -7,6 +7,8 @@
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=Reconstruct --benchmark_repetitions=3
 //        --benchmark_report_aggregates_only=true
+#include "bench_stages.hpp"
+
 #include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/render.hpp>
 
@@ -67,14 +69,12 @@ void BM_Reconstruct(benchmark::State& state, Method method, Integrator integrato
   bool pulled_kept = false;
   for (auto _ : state) {
     const Reconstruction result = reconstruct(scene.image, Eigen::Vector3d(1, 0, 1), &scene.mask, 1.0, options);
-    for (const auto& [stage, seconds] : result.stats.seconds) stage_seconds[stage] += seconds;
-    stage_seconds["maxflow"] += result.stats.maxflow_seconds;
+    bench::add_stages(result.stats, stage_seconds);
     iterations = result.stats.iterations;
     pulled_kept = result.stats.pulled_kept;
     benchmark::DoNotOptimize(result.depth.data());
   }
-  for (const auto& [stage, seconds] : stage_seconds)
-    state.counters[stage + "_ms"] = benchmark::Counter(1e3 * seconds / double(state.iterations()));
+  bench::report_stages(state, stage_seconds);
   state.counters["iterations"] = iterations;
   state.counters["pulled_kept"] = pulled_kept;
 }
