@@ -347,17 +347,20 @@ NormalMap labelling_normals(const std::vector<int>& labelling, const TiltEnergy&
   const Mask& mask = energy.mask();
   NormalMap normals(energy.rows(), energy.cols());
   const double step = 2.0 * M_PI / energy.labels();
-  for (Eigen::Index i = 0; i < normals.size(); ++i) {
-    if (!mask.data()[i]) continue;
-    double tilt = energy.label_tilt(labelling[std::size_t(i)]);
-    if (refine && label_tilts && std::isfinite((*label_tilts)[std::size_t(i)])) tilt = (*label_tilts)[std::size_t(i)];
-    if (refine && local.tilt_defined.data()[i]) {
-      const double concave = local.tilt.data()[i], convex = concave + M_PI;
-      const double nearer = angle_distance(tilt, concave) < angle_distance(tilt, convex) ? concave : convex;
-      if (angle_distance(tilt, nearer) <= step + 1e-9) tilt = nearer;
+  // Rows in parallel: two sines and cosines per pixel cost 0.2 s at 4 MP on one core.
+  detail::parallel_ranges(energy.rows(), 16, 0, [&](int begin, int end) {
+    for (Eigen::Index i = Eigen::Index(begin) * energy.cols(); i < Eigen::Index(end) * energy.cols(); ++i) {
+      if (!mask.data()[i]) continue;
+      double tilt = energy.label_tilt(labelling[std::size_t(i)]);
+      if (refine && label_tilts && std::isfinite((*label_tilts)[std::size_t(i)])) tilt = (*label_tilts)[std::size_t(i)];
+      if (refine && local.tilt_defined.data()[i]) {
+        const double concave = local.tilt.data()[i], convex = concave + M_PI;
+        const double nearer = angle_distance(tilt, concave) < angle_distance(tilt, convex) ? concave : convex;
+        if (angle_distance(tilt, nearer) <= step + 1e-9) tilt = nearer;
+      }
+      normals.xyz.row(i) = light.normal(local.slant.data()[i], tilt).cast<float>();
     }
-    normals.xyz.row(i) = light.normal(local.slant.data()[i], tilt).cast<float>();
-  }
+  });
   return normals;
 }
 
