@@ -78,9 +78,9 @@ class LabelCostModel {
  public:
   // What R_p needs of one pixel.
   struct PixelTerms {
-    double s = 0.0, sin_s = 0.0, nz_base = 0.0, nz_step = 0.0, t = 0.0;
+    double s = 0.0, sin_s = 0.0, nz_base = 0.0, nz_step = 0.0, t = 0.0, cos_t = 1.0, sin_t = 0.0;
     bool defined = false;
-    int concave_label = 0, convex_label = 0;
+    int concave_label = 0, convex_label = 0;  // the two-candidate term's
     Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // zero without a reference
     Eigen::Vector2d outward = Eigen::Vector2d::Zero();    // zero off the outline
   };
@@ -93,18 +93,25 @@ class LabelCostModel {
         outline_(read_outline(local, light, mask, params.contour_weight)) {
     const int k_count = energy.labels();
     cos_label_.resize(std::size_t(k_count));
+    sin_label_.resize(std::size_t(k_count));
+    undefined_chord_.resize(std::size_t(k_count));
     label_angle_.resize(std::size_t(k_count));
     for (int k = 0; k < k_count; ++k) {
       label_angle_[std::size_t(k)] = energy.label_tilt(k);
       cos_label_[std::size_t(k)] = std::cos(label_angle_[std::size_t(k)]);
+      sin_label_[std::size_t(k)] = std::sin(label_angle_[std::size_t(k)]);
+      // From the label's tilt to pi (the convex tilt of an undefined pixel).
+      undefined_chord_[std::size_t(k)] = std::hypot(cos_label_[std::size_t(k)] + 1.0, sin_label_[std::size_t(k)]);
     }
   }
 
-  PixelTerms pixel_terms(int p) const {
+  // What R_p needs of pixel p; with `admissibility_only`, what admissible() needs (the windows ask
+  // at every pixel, and the costs' terms would cost as much again).
+  PixelTerms pixel_terms(int p, bool admissibility_only = false) const {
     PixelTerms terms;
     const double s = local_.slant.data()[p];
     terms.s = s;
-    const int component = outline_.silhouette.empty() ? -1 : outline_.components.labels.data()[p];
+    const int component = outline_.silhouette.empty() || admissibility_only ? -1 : outline_.components.labels.data()[p];
     if (component >= 0 && outline_.silhouette[std::size_t(component)])
       terms.outward = contour_outward(mask_, p / mask_.cols(), p % mask_.cols());
     terms.sin_s = std::sin(s);
@@ -113,17 +120,28 @@ class LabelCostModel {
     terms.nz_step = sin_ls_ * terms.sin_s;
     terms.defined = local_.tilt_defined.data()[p];
     terms.t = local_.tilt.data()[p];
-    terms.concave_label = energy_.nearest_label(terms.t);
-    terms.convex_label = energy_.nearest_label(terms.t + M_PI);
-    if (referenced_) terms.reference = params_.reference->xyz.row(p).transpose().cast<double>();
+    if (terms.defined && !admissibility_only) terms.cos_t = std::cos(terms.t), terms.sin_t = std::sin(terms.t);
+    // The candidates matter to the two-candidate term alone.
+    if (terms.defined && params_.data_term == DataTerm::TwoCandidates) {
+      terms.concave_label = energy_.nearest_label(terms.t);
+      terms.convex_label = energy_.nearest_label(terms.t + M_PI);
+    }
+    if (referenced_ && !admissibility_only) terms.reference = params_.reference->xyz.row(p).transpose().cast<double>();
     return terms;
   }
 
   double label_nz(const PixelTerms& terms, int k) const { return terms.nz_base - terms.nz_step * cos_label_[std::size_t(k)]; }
 
   float label_cost(const PixelTerms& terms, int k) const {
-    if (label_nz(terms, k) <= kMinFrontFacing) return kProhibited;
+    if (!admissible(terms, k)) return kProhibited;
     return float(with_normal_terms(terms, k, data_cost_of(terms, k)));
+  }
+
+  // Whether label_cost(terms, k) is finite: the label's normal faces the viewer and, with the
+  // two-candidate term, the label is a candidate (an undefined pixel takes any).
+  bool admissible(const PixelTerms& terms, int k) const {
+    if (label_nz(terms, k) <= kMinFrontFacing) return false;
+    return !terms.defined || params_.data_term == DataTerm::Soft || k == terms.concave_label || k == terms.convex_label;
   }
 
  private:
@@ -142,12 +160,16 @@ class LabelCostModel {
     return cost;
   }
 
+  // Eq. (15)'s R_p: 2 sin(d / 2) for an angle d between tilts is the chord between their unit vectors,
+  // which the label's cosine and sine give without an angle's sine (and its fmods) per label.
   double data_cost_of(const PixelTerms& terms, int k) const {
-    const double angle = label_angle_[std::size_t(k)];
-    if (!terms.defined) return params_.undefined_weight * 2.0 * terms.sin_s * std::sin(0.5 * angle_distance(angle, M_PI));
+    if (!terms.defined) return params_.undefined_weight * terms.sin_s * undefined_chord_[std::size_t(k)];
     if (params_.data_term == DataTerm::Soft) {
-      const double d = std::min(angle_distance(angle, terms.t), angle_distance(angle, terms.t + M_PI));
-      return params_.data_weight * 2.0 * terms.sin_s * std::sin(0.5 * d);
+      // d runs to the nearer end of the tilt axis: t or t + pi.
+      const double c = cos_label_[std::size_t(k)], s = sin_label_[std::size_t(k)];
+      const double end = c * terms.cos_t + s * terms.sin_t >= 0.0 ? 1.0 : -1.0;
+      const double dx = c - end * terms.cos_t, dy = s - end * terms.sin_t;
+      return params_.data_weight * terms.sin_s * std::sqrt(dx * dx + dy * dy);
     }
     return k == terms.concave_label || k == terms.convex_label ? 0.0 : double(kProhibited);
   }
@@ -160,7 +182,7 @@ class LabelCostModel {
   const bool referenced_;
   const double cos_ls_, sin_ls_;
   const Outline outline_;
-  std::vector<double> cos_label_, label_angle_;
+  std::vector<double> cos_label_, sin_label_, undefined_chord_, label_angle_;
 };
 
 }  // namespace detail
@@ -230,14 +252,14 @@ void TiltEnergy::build_windows(const detail::LabelCostModel& model, const TiltEn
     int width = k_count;
     const int centre = (*params.band_centre)[std::size_t(p)];
     if (centre >= 0) {
-      const detail::LabelCostModel::PixelTerms terms = model.pixel_terms(p);
+      const detail::LabelCostModel::PixelTerms terms = model.pixel_terms(p, true);
       const bool frozen = params.band_frozen && (*params.band_frozen)[std::size_t(p)];
       const int span = params.band_span ? (*params.band_span)[std::size_t(p)] : 0;
       for (int half = frozen ? 0 : params.band; half <= params.band && width == k_count; half += std::max(1, params.band)) {
         const int first = (centre - half + k_count) % k_count;
         const int band_width = std::min(2 * half + 1 + span, k_count);
         for (int j = 0; j < band_width && width == k_count; ++j)
-          if (std::isfinite(model.label_cost(terms, (first + j) % k_count))) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
+          if (model.admissible(terms, (first + j) % k_count)) width = band_width, window_first_[std::size_t(p)] = std::int16_t(first);
       }
     }
     window_begin_[std::size_t(p) + 1] = width;
