@@ -71,13 +71,9 @@ def test_relief_renders_have_no_block_grid(kind, light, given):
     assert ratio <= BOUND
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "measured 1.134, 1.113, 1.231 under the three lights (256 px, light given; 1.95, 1.83, 2.21 before issue 29): "
-    "the convex/concave creases the energy puts between the bumps, on flat ground where it has no "
-    "preference, stay on the coarse pixels' edges; the exact alpha-expansion (coarse_to_fine_band=-1, one "
-    "level) scores 1.011, 0.961, 1.070 on the same bumps, and errors of 10.27, 9.65, 13.46 deg against "
-    "10.85, 11.06, 13.57: coarse to fine keeps the grid, at a cost the band was chosen to avoid"))
 def test_bumps_have_no_block_grid():
+    # The labelling's convex/concave creases between the bumps stay on the coarse pixels' edges (1.134,
+    # 1.113, 1.226 in its normals); a relief's normals are its integrated depth's, which smooths them.
     ratios = []
     for light in LIGHTS:
         scene = synthetic.bumps(light, 256)
@@ -86,14 +82,7 @@ def test_bumps_have_no_block_grid():
     assert max(ratios) <= BOUND
 
 
-@pytest.mark.parametrize("name", [
-    *(name for name in PHOTOGRAPHS if name != "coins"),
-    pytest.param("coins", marks=pytest.mark.xfail(strict=True, reason=(
-        "measured 1.105 (1.036 with paint_line_width=0): the coins' bright rims read as paint lines and "
-        "filled leave steps on the coarse grid around them. Coarse to fine carries them: one level, every "
-        "label (coarse_to_fine_band=-1) gives 1.068, no viscosity pull 1.025; the band's radius (1: 1.112, "
-        "2: 1.105), the integrator (frankot_chellappa 1.103) do not; without the shadow fill 1.075"))),
-])
+@pytest.mark.parametrize("name", PHOTOGRAPHS)
 def test_photographs_have_no_block_grid(name):
     data = pytest.importorskip("skimage.data", reason="python3-skimage (its CC0 photographs) is not installed")
     pixels = np.asarray(getattr(data, name)(), dtype=np.float64)

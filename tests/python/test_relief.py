@@ -64,6 +64,16 @@ def test_a_relief_keeps_its_height_and_shape(walls):
         assert correlation(result.depth, wall.depth) >= 0.7, light
 
 
+def test_a_reliefs_normals_are_its_depths():
+    # What the mesh shows: the labelling's own normals carry convex/concave creases on flat ground,
+    # which the integration smooths away (test_grid.py measures what that did to the block grid).
+    for light in LIGHTS:
+        scene = synthetic.bumps(light, 128)
+        relief = shadecut.reconstruct(scene.image, light, scene="relief")
+        whole = np.ones(scene.image.shape, bool)
+        np.testing.assert_allclose(relief.normals, shadecut.normals_from_depth(relief.depth, whole), atol=1e-6)
+
+
 def test_an_object_scene_keeps_the_ramp_that_a_relief_removes():
     wall = synthetic.bricks(LIGHTS[0], size=96)
     as_object = shadecut.reconstruct(wall.image, LIGHTS[0], scene="object")

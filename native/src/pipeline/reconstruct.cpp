@@ -74,11 +74,10 @@ double detail_size_used(const ImageF& image, const Mask& mask, const Reconstruct
 
 // A relief made what a relief is: on a flat carrier facing the viewer, without the forms larger than
 // its detail (the integration's drift). Seamless output tiles as it is and is left alone.
-void finish_relief(ImageF& depth, NormalMap& normals, const Mask& mask, const ReconstructOptions& options,
-                   double detail_size) {
+void finish_relief(ImageF& depth, const Mask& mask, const ReconstructOptions& options, double detail_size) {
   if (options.seamless || options.scene != SceneKind::Relief) return;
-  flatten_relief(depth, normals, mask);
-  if (std::isfinite(detail_size)) damp_large_forms(depth, normals, mask, detail_size);
+  flatten_relief(depth, mask);
+  if (std::isfinite(detail_size)) damp_large_forms(depth, mask, detail_size);
 }
 
 // The orientation is judged at an object size of at most this many pixels: a surface and its
@@ -138,7 +137,7 @@ void judge_orientation(const ImageF& full_image, const Mask& full_unreliable, co
   }
   Surface inverted = surface_from_normals(std::move(turned), mask, unreliable, edge_is_outline(options), options.integrator,
                                           options.seamless, options.max_slope);
-  finish_relief(inverted.depth, inverted.normals, mask, options, detail_size);
+  finish_relief(inverted.depth, mask, options, detail_size);
   const Mask counted = mask && !unreliable;
   auto residual = [&](const ImageF& rendered_depth) {
     return mean_brightness_residual(rendered_depth, image, mask, counted, frame.direction, result.albedo);
@@ -453,7 +452,12 @@ Reconstruction detail::reconstruct_shading(const ImageF& input, const std::optio
     progress.report(1.0, "integration");
   }
   result.stats.detail_size = detail_size_used(image, mask, options);
-  finish_relief(result.depth, result.normals, mask, options, result.stats.detail_size);
+  finish_relief(result.depth, mask, options, result.stats.detail_size);
+  // A relief is a height field, and its normal map is its finished depth's: what the mesh shows. The
+  // labelling's own normals carry the convex/concave creases it puts on flat ground, on the coarse
+  // levels' grid, which the integration smooths away (docs/method.md, Reliefs). A seamless relief's
+  // already are its depth's.
+  if (options.scene == SceneKind::Relief && !options.seamless) result.normals = normals_from_depth(result.depth, mask);
   const Stopwatch orientation;
   judge_orientation(image, unreliable, frame, options, result);
   result.stats.seconds["orientation"] = orientation.seconds();

@@ -108,14 +108,6 @@ Field parallel_logarithm(const ImageF& image, double floor) {
   return logarithm;
 }
 
-// The normal turned as the surface is when the plane z = a x + b y is subtracted from it: its
-// gradient (p, q) = (-n_x / n_z, -n_y / n_z) becomes (p - a, q - b). Normals facing away are left.
-void subtract_slope(Eigen::Ref<Eigen::RowVector3f> n, double a, double b) {
-  if (!(n.z() > 0.0f)) return;
-  const double p = -n.x() / n.z() - a, q = -n.y() / n.z() - b;
-  n = Eigen::Vector3f(float(-p), float(-q), 1.0f).normalized().transpose();
-}
-
 // Whether the pixel (r, c) stands above both of its sides along (dr, dc) by more than `step` in
 // log-intensity: the darkest masked pixel among the `reach` before it and among the `reach` after
 // it are both that much darker. A side with no masked pixel does not qualify.
@@ -168,7 +160,7 @@ double relief_albedo(const ImageF& image, const Mask& mask, const Eigen::Vector3
   return median_intensity(image, mask) / light.z();
 }
 
-void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {
+void flatten_relief(ImageF& depth, const Mask& mask) {
   // Least squares of z = a x + b y + c with x = c, y = -r. A row's sums (count, x, x^2, z, x z) are
   // taken in parallel and added in row order: the same bits for any number of threads.
   std::vector<Eigen::Array<double, 5, 1>> row_sums(static_cast<std::size_t>(depth.rows()));
@@ -190,14 +182,10 @@ void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask) {
     rhs += Eigen::Vector3d(sums[4], y * sums[3], sums[3]);
   }
   if (mask.count() < 3) return;
-  // z = a x + b y + c; removing it changes the gradients (p, q) by (-a, -b) everywhere.
-  const Eigen::Vector3d plane = normal_matrix.ldlt().solve(rhs);
+  const Eigen::Vector3d plane = normal_matrix.ldlt().solve(rhs);  // z = a x + b y + c
   detail::parallel_for(int(depth.rows()), kRowsPerChunk, 0, [&](int r) {
-    for (Eigen::Index c = 0; c < depth.cols(); ++c) {
-      if (!mask(r, c)) continue;
-      depth(r, c) -= float(plane.x() * double(c) - plane.y() * double(r) + plane.z());
-      subtract_slope(normals.xyz.row(r * depth.cols() + c), plane.x(), plane.y());
-    }
+    for (Eigen::Index c = 0; c < depth.cols(); ++c)
+      if (mask(r, c)) depth(r, c) -= float(plane.x() * double(c) - plane.y() * double(r) + plane.z());
   });
   rebase_depth(depth, mask);
 }
@@ -229,16 +217,12 @@ double relief_scale(const ImageF& image, const Mask& mask) {
   return 2.0 * M_PI * std::sqrt(variance / (slopes / double(count)));
 }
 
-void damp_large_forms(ImageF& depth, NormalMap& normals, const Mask& mask, double detail_size) {
+void damp_large_forms(ImageF& depth, const Mask& mask, double detail_size) {
   if (!(detail_size > 0.0)) throw InvalidArgument("shadecut: the detail size must be > 0 pixels");
   const Field low = masked_blur(depth.cast<double>().array(), mask, 0.187 * detail_size);
   detail::parallel_for(int(depth.rows()), kRowsPerChunk, 0, [&](int r) {
-    for (Eigen::Index c = 0; c < depth.cols(); ++c) {
-      if (!mask(r, c)) continue;
-      depth(r, c) -= float(low(r, c));
-      const detail::MaskedGradient slope = detail::masked_gradient(low, mask, r, int(c));
-      subtract_slope(normals.xyz.row(r * depth.cols() + c), slope.dx, slope.dy);
-    }
+    for (Eigen::Index c = 0; c < depth.cols(); ++c)
+      if (mask(r, c)) depth(r, c) -= float(low(r, c));
   });
   rebase_depth(depth, mask);
 }

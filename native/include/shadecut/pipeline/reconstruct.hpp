@@ -218,7 +218,7 @@ struct ReconstructStats {
 };
 
 struct Reconstruction {
-  NormalMap normals;       ///< H x W camera-frame unit normals, 0 outside the mask
+  NormalMap normals;       ///< H x W camera-frame unit normals, 0 outside the mask; a relief's are its depth's
   ImageF depth;            ///< H x W, pixel units, larger = closer; each mask component's minimum is 0
   Mask mask;               ///< H x W, the pixels reconstructed
   double albedo = 0.0;     ///< the albedo used (given or estimated): of the brightest paint with retinex

@@ -22,13 +22,12 @@ double median_intensity(const ImageF& image, const Mask& mask);
 double relief_albedo(const ImageF& image, const Mask& mask, const Eigen::Vector3d& light);
 
 /// Removes the least-squares plane of the masked depth, so that the relief sits on a flat carrier
-/// facing the viewer (no ramp), and tilts the normals to match; then every 4-connected component's
-/// minimum is 0 again.
+/// facing the viewer (no ramp); then every 4-connected component's minimum is 0 again. A relief's
+/// normals are its finished depth's (reconstruct), so they are not tilted here.
 ///
-/// @param[in,out] depth   H x W, pixel units (x = column, y = -row).
-/// @param[in,out] normals H x W camera-frame unit normals.
-/// @param[in] mask        H x W.
-void flatten_relief(ImageF& depth, NormalMap& normals, const Mask& mask);
+/// @param[in,out] depth H x W, pixel units (x = column, y = -row).
+/// @param[in] mask      H x W.
+void flatten_relief(ImageF& depth, const Mask& mask);
 
 /// A relief's own scale, in pixels: the typical wavelength of its shading, 2 pi sqrt(var L / var grad L)
 /// of the log-intensity L (floored at 1/1000 of the median, blurred over about a pixel against
@@ -56,14 +55,13 @@ Mask bright_lines(const ImageF& image, const Mask& mask, int width, double contr
 /// Damps the forms larger than `detail_size` pixels out of a relief's depth: subtracts its masked
 /// Gaussian blur (normalized convolution, so the mask's edge and the frame's do not pull the level)
 /// of standard deviation 0.187 detail_size, a high-pass that keeps half of a sinusoid of wavelength
-/// detail_size, a sixth of one twice as long and a twentieth at four times; tilts the normals by the blur's gradient to match;
-/// then every 4-connected component's minimum is 0 again. A drift of the integration (slopes read
-/// slightly wrong over a large area) is such a form; the detail is not.
+/// detail_size, a sixth of one twice as long and a twentieth at four times; then every 4-connected
+/// component's minimum is 0 again. A drift of the integration (slopes read slightly wrong over a
+/// large area) is such a form; the detail is not.
 ///
 /// @param[in,out] depth   H x W, pixel units (x = column, y = -row).
-/// @param[in,out] normals H x W camera-frame unit normals.
 /// @param[in] mask        H x W.
 /// @param[in] detail_size pixels, > 0.
-void damp_large_forms(ImageF& depth, NormalMap& normals, const Mask& mask, double detail_size);
+void damp_large_forms(ImageF& depth, const Mask& mask, double detail_size);
 
 }  // namespace shadecut
