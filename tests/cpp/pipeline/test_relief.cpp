@@ -5,7 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
+#include <tuple>
+#include <vector>
 
 namespace shadecut {
 namespace {
@@ -46,6 +50,27 @@ TEST(DampLargeForms, LeavesTheOutsideOfTheMaskAndRefusesANonPositiveSize) {
   damp_large_forms(depth, mask, 16.0);
   EXPECT_TRUE((depth.leftCols(kSize / 2).array() == before.leftCols(kSize / 2).array()).all());
   EXPECT_THROW(damp_large_forms(depth, mask, 0.0), InvalidArgument);
+}
+
+TEST(MedianIntensity, IsTheUpperMiddleMaskedValueAsASortWouldFindIt) {
+  // Negative values, repeated values (a quarter-step grid), odd and even counts, a partial mask.
+  std::mt19937 generator(7);
+  std::uniform_real_distribution<float> value(-0.5f, 2.0f), coin(0.0f, 1.0f);
+  for (const auto& [rows, cols, step] : {std::tuple{37, 41, 0.0f}, std::tuple{64, 64, 0.25f}, std::tuple{1, 6, 0.0f}}) {
+    ImageF image(rows, cols);
+    Mask mask(rows, cols);
+    std::vector<float> masked;
+    for (Eigen::Index i = 0; i < image.size(); ++i) {
+      const float v = value(generator);
+      image.data()[i] = step > 0.0f ? step * std::round(v / step) : v;
+      mask.data()[i] = rows == 1 || coin(generator) < 0.7f;
+      if (mask.data()[i]) masked.push_back(image.data()[i]);
+    }
+    std::nth_element(masked.begin(), masked.begin() + std::ptrdiff_t(masked.size() / 2), masked.end());
+    EXPECT_EQ(median_intensity(image, mask), double(masked[masked.size() / 2])) << rows << " x " << cols;
+  }
+  EXPECT_THROW(median_intensity(ImageF::Constant(4, 4, -1.0f), Mask::Constant(4, 4, true)), InvalidArgument);
+  EXPECT_THROW(median_intensity(ImageF::Constant(4, 4, 1.0f), Mask::Constant(4, 4, false)), InvalidArgument);
 }
 
 TEST(ReliefScale, IsTheWavelengthOfAShadingWave) {
