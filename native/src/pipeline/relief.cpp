@@ -110,21 +110,17 @@ Field parallel_logarithm(const ImageF& image, double floor) {
   return logarithm;
 }
 
-// Whether the pixel (r, c) stands above both of its sides along (dr, dc) by more than `step` in
-// log-intensity: the darkest masked pixel among the `reach` before it and among the `reach` after
-// it are both that much darker. A side with no masked pixel does not qualify.
-bool above_both_sides(const Field& logarithm, const Mask& mask, Eigen::Index r, Eigen::Index c, int dr, int dc, int reach,
-                      double step) {
-  for (const int sign : {-1, 1}) {
-    double darkest = std::numeric_limits<double>::infinity();
-    for (int k = 1; k <= reach; ++k) {
-      const Eigen::Index rr = r + sign * k * dr, cc = c + sign * k * dc;
-      if (rr < 0 || cc < 0 || rr >= mask.rows() || cc >= mask.cols() || !mask(rr, cc)) continue;
-      darkest = std::min(darkest, logarithm(rr, cc));
-    }
-    if (!(logarithm(r, c) - darkest > step)) return false;
-  }
-  return true;
+// log(max(image, floor)) where masked and +infinity elsewhere, in a frame of +infinity `pad` pixels
+// wide: the darkest pixel on a side is then a plain minimum, and a side with no masked pixel never
+// stands darker than anything.
+Field padded_logarithm(const ImageF& image, const Mask& mask, double floor, int pad) {
+  const double infinity = std::numeric_limits<double>::infinity();
+  Field padded = Field::Constant(image.rows() + 2 * pad, image.cols() + 2 * pad, infinity);
+  detail::parallel_for(int(image.rows()), kRowsPerChunk, 0, [&](int r) {
+    padded.row(r + pad).segment(pad, image.cols()) =
+        mask.row(r).select(image.row(r).cast<double>().max(floor).log(), infinity);
+  });
+  return padded;
 }
 
 }  // namespace
@@ -133,13 +129,22 @@ Mask bright_lines(const ImageF& image, const Mask& mask, int width, double contr
   if (!(contrast > 1.0)) throw InvalidArgument("shadecut: a bright line's contrast must be > 1; got " + std::to_string(contrast));
   Mask lines = Mask::Constant(image.rows(), image.cols(), false);
   if (width < 2) return lines;
-  const Field logarithm = parallel_logarithm(image, 1e-6);
   const double step = std::log(contrast);
   const int reach = width / 2;
+  const Field logarithm = padded_logarithm(image, mask, 1e-6, reach);
+  const Eigen::Index stride = logarithm.cols();
   detail::parallel_for(int(image.rows()), kRowsPerChunk, 0, [&](int r) {
-    for (Eigen::Index c = 0; c < image.cols(); ++c)
-      lines(r, c) = mask(r, c) && (above_both_sides(logarithm, mask, r, c, 0, 1, reach, step) ||
-                                   above_both_sides(logarithm, mask, r, c, 1, 0, reach, step));
+    for (Eigen::Index c = 0; c < image.cols(); ++c) {
+      if (!mask(r, c)) continue;
+      const double* centre = logarithm.data() + (r + reach) * stride + (c + reach);
+      // The darkest pixel within `reach` on each side: left, right, above, below.
+      double left = centre[-1], right = centre[1], above = centre[-stride], below = centre[stride];
+      for (int k = 2; k <= reach; ++k) {
+        left = std::min(left, centre[-k]), right = std::min(right, centre[k]);
+        above = std::min(above, centre[-k * stride]), below = std::min(below, centre[k * stride]);
+      }
+      lines(r, c) = (*centre - left > step && *centre - right > step) || (*centre - above > step && *centre - below > step);
+    }
   });
   const Eigen::Index marked = lines.count(), black = (mask && image.array() <= 0.0f).count();
   if (4 * marked > mask.count() || 2 * (marked + black) >= mask.count()) lines.setConstant(false);

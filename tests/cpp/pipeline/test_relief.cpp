@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <tuple>
 #include <vector>
@@ -82,6 +83,45 @@ TEST(ReliefScale, IsTheWavelengthOfAShadingWave) {
     EXPECT_NEAR(relief_scale(image, Mask::Constant(kSize, kSize, true)) / wavelength, 1.0, 0.1) << wavelength;
   }
   EXPECT_TRUE(std::isinf(relief_scale(ImageF::Constant(16, 16, 0.5f), Mask::Constant(16, 16, true))));
+}
+
+TEST(BrightLines, MarksWhatTheirDefinitionSaysOnRandomMaskedImages) {
+  // The definition read plainly: a masked pixel whose darkest masked neighbour within width / 2 on
+  // each side, across a row or down a column, is darker by more than the contrast; a side with no
+  // masked pixel does not qualify; nothing marked when the marks cover over a quarter of the mask.
+  std::mt19937 generator(11);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (const int width : {2, 5, 9}) {
+    ImageF image(48, 53);
+    Mask mask(48, 53);
+    for (Eigen::Index i = 0; i < image.size(); ++i) {
+      image.data()[i] = 0.2f + 0.3f * unit(generator) + (unit(generator) < 0.05f ? 2.0f : 0.0f);
+      mask.data()[i] = unit(generator) < 0.85f;
+    }
+    const int reach = width / 2;
+    auto darkest_side = [&](int r, int c, int dr, int dc, int sign) {
+      double darkest = std::numeric_limits<double>::infinity();
+      for (int k = 1; k <= reach; ++k) {
+        const int rr = r + sign * k * dr, cc = c + sign * k * dc;
+        if (rr >= 0 && cc >= 0 && rr < 48 && cc < 53 && mask(rr, cc)) darkest = std::min(darkest, std::log(double(image(rr, cc))));
+      }
+      return darkest;
+    };
+    Mask expected = Mask::Constant(48, 53, false);
+    for (int r = 0; r < 48; ++r)
+      for (int c = 0; c < 53; ++c) {
+        if (!mask(r, c)) continue;
+        const double centre = std::log(double(image(r, c))), step = std::log(2.0);
+        auto across = [&](int dr, int dc) {
+          return centre - darkest_side(r, c, dr, dc, -1) > step && centre - darkest_side(r, c, dr, dc, 1) > step;
+        };
+        expected(r, c) = across(0, 1) || across(1, 0);
+      }
+    ASSERT_GT(expected.count(), 20) << width;
+    ASSERT_LT(4 * expected.count(), mask.count()) << width;
+    const Mask lines = bright_lines(image, mask, width, 2.0);
+    EXPECT_EQ((lines != expected).count(), 0) << width;
+  }
 }
 
 TEST(BrightLines, MarksAThinBrightLineNotABrightFaceOrASlope) {
