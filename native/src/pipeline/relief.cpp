@@ -65,7 +65,8 @@ void box_down_columns(const Field& in, Field& out, int radius) {
 
 // The masked Gaussian blur of `values` (standard deviation sigma pixels): three boxes each way, whose
 // variance 3 (w^2 - 1) / 12 is sigma^2, over the values and over the mask, divided. 0 off the mask.
-Field masked_blur(const Field& values, const Mask& mask, double sigma) {
+// `values` is taken by value and blurred in place: the callers hand over fields made for it.
+Field masked_blur(Field values, const Mask& mask, double sigma) {
   const double largest = double(std::max(mask.rows(), mask.cols()));
   const int radius = int(std::lround((std::sqrt(4.0 * std::min(sigma, largest) * std::min(sigma, largest) + 1.0) - 1.0) / 2.0));
   // One scratch field for every column pass: a fresh 8-byte-per-pixel field each pass costs more in
@@ -87,18 +88,17 @@ Field masked_blur(const Field& values, const Mask& mask, double sigma) {
       return ones;
     };
     const Field across = blurred_ones(values.cols()), down = blurred_ones(values.rows());
-    Field blurred = values;
-    blur(blurred);
-    detail::parallel_for(int(values.rows()), kRowsPerChunk, 0, [&](int r) { blurred.row(r) /= down(0, r) * across.row(0); });
-    return blurred;
+    blur(values);
+    detail::parallel_for(int(values.rows()), kRowsPerChunk, 0, [&](int r) { values.row(r) /= down(0, r) * across.row(0); });
+    return values;
   }
   Field weights = mask.cast<double>().array();
-  Field blurred = weights * values;
+  values *= weights;
   blur(weights);
-  blur(blurred);
-  // Coefficient-wise, so written over `blurred` without a temporary.
-  blurred = (weights > 0.0).select(blurred / weights.max(1e-300), 0.0) * mask.cast<double>().array();
-  return blurred;
+  blur(values);
+  // Coefficient-wise, so written over `values` without a temporary.
+  values = (weights > 0.0).select(values / weights.max(1e-300), 0.0) * mask.cast<double>().array();
+  return values;
 }
 
 // log(max(image, floor)) in double, rows in parallel (a serial pass costs 40 ms at 4 MP).
