@@ -23,6 +23,11 @@ constexpr double kAnchor = 1e-6;
 // about 1e-5 (ShadowFill.*: 1e-4 gave 0.09 on a region held by the faint pull alone).
 constexpr double kFillTolerance = 1e-6;
 
+// Whether (r, c) lies in the frame and in `mask`.
+bool masked(const Mask& mask, int r, int c) {
+  return r >= 0 && r < mask.rows() && c >= 0 && c < mask.cols() && mask(r, c);
+}
+
 // The harmonic x and y of one 4-connected region of unknown normals (pixel indices `region`): a graph
 // Laplacian on them, each known masked neighbour an anchor of weight 1 at its value, and the faint pull
 // toward the current normal (kAnchor); solved in the region's bounding box. The normals are rebuilt
@@ -46,7 +51,7 @@ void fill_region(NormalMap& normals, const std::vector<int>& region, const Mask&
     Eigen::Vector2d pulled = kAnchor * normals.xyz.row(p).head<2>().transpose().cast<double>();
     const int neighbours[4][2] = {{r, c - 1}, {r, c + 1}, {r - 1, c}, {r + 1, c}};
     for (const auto& rc : neighbours) {
-      if (rc[0] < 0 || rc[0] >= rows || rc[1] < 0 || rc[1] >= cols || !mask(rc[0], rc[1])) continue;
+      if (!masked(mask, rc[0], rc[1])) continue;
       const int q = rc[0] * cols + rc[1];
       if (unknown.data()[q]) continue;
       weight += 1.0;
@@ -82,7 +87,6 @@ Mask unreliable_pixels(const ImageF& image, const Mask& mask, double albedo, dou
 
 int fill_normals(NormalMap& normals, const Mask& fill, const Mask& mask, bool occluding_contour) {
   const int rows = int(mask.rows()), cols = int(mask.cols()), n = rows * cols;
-  auto inside = [&](int r, int c) { return r >= 0 && r < rows && c >= 0 && c < cols && mask(r, c); };
   auto shadowed = [&](int p) { return bool(fill.data()[p]); };
   auto outward = [&](int r, int c) -> Eigen::Vector2d {
     return occluding_contour ? detail::contour_outward(mask, r, c) : Eigen::Vector2d::Zero();
@@ -135,7 +139,7 @@ int fill_normals(NormalMap& normals, const Mask& fill, const Mask& mask, bool oc
       const int r = region[k] / cols, c = region[k] % cols;
       const int neighbours[4][2] = {{r, c - 1}, {r, c + 1}, {r - 1, c}, {r + 1, c}};
       for (const auto& rc : neighbours) {
-        if (!inside(rc[0], rc[1])) continue;
+        if (!masked(mask, rc[0], rc[1])) continue;
         const int q = rc[0] * cols + rc[1];
         if (unknown.data()[q] && !visited.data()[q]) {
           visited.data()[q] = true;
