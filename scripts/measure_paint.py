@@ -5,7 +5,9 @@ estimated light), beside the flat plane: the figures of docs/results.md#painted-
 Run: PYTHONPATH=addon /usr/bin/python3 scripts/measure_paint.py [DILIGENT_FOLDER]
 (DILIGENT_FOLDER defaults to ../shared/data/diligent; objects absent there are skipped), or with
 --speed: the paint step's own seconds (stats.seconds["albedo"]) beside the whole call's, median of
-five calls, on the painted bump field at 512 and 1024 pixels (docs/benchmarks.md).
+five calls, on the painted bump field at 512 and 1024 pixels (docs/benchmarks.md), or with --oracle
+[DILIGENT_FOLDER]: graphcut on DiLiGenT's photographs divided by the best relative albedo there is,
+the least-squares one of all 19 photographs under the true normals, 1 at its 90th percentile.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ sys.path.insert(0, str(REPO / "tests" / "python"))
 import test_paint  # noqa: E402  (the test set and the DiLiGenT reader the tests use)
 
 METHODS = ("top_fit", "retinex")
+LUMINANCE = (0.2126, 0.7152, 0.0722)  # Rec. 709, as reconstruct() reads a colour image
 
 
 def painted_set() -> None:
@@ -53,6 +56,24 @@ def diligent(folder: Path) -> None:
               flush=True)
 
 
+def oracle(folder: Path) -> None:
+    test_paint.DILIGENT = folder
+    for name in ("ball", "cat", "reading"):
+        if not (folder / f"{name}PNG").is_dir():
+            continue
+        photos, mask, normals = test_paint.diligent_photos(name)
+        grey = np.stack([rgb @ np.array(LUMINANCE) for rgb, _ in photos], axis=-1)
+        lights = np.array([light for _, light in photos])
+        shading = np.maximum(np.einsum("hwc,kc->hwk", normals, lights), 0.0)
+        albedo = (grey * shading).sum(axis=-1) / np.maximum((shading ** 2).sum(axis=-1), 1e-9)
+        relative = np.maximum(albedo / np.percentile(albedo[mask], 90), 0.05)
+        inner = shadecut.erode_mask(mask, 2)
+        errors = [shadecut.angular_error(shadecut.reconstruct(np.where(mask, grey[..., k] / relative, 0).astype(np.float32),
+                                                              light, mask).normals, normals, inner)
+                  for k, (_, light) in enumerate(photos)]
+        print(f"| {name} | {np.mean(errors):.2f} |", flush=True)
+
+
 def speed() -> None:
     from shadecut import synthetic
 
@@ -71,11 +92,17 @@ def main() -> int:
     if "--speed" in sys.argv:
         speed()
         return 0
+    folders = [Path(arg) for arg in sys.argv[1:] if not arg.startswith("--")]
+    folder = folders[0] if folders else REPO.parent / "shared" / "data" / "diligent"
+    if "--oracle" in sys.argv:
+        print("| DiLiGenT | calibrated, the photographs' own albedo |\n|---|---|")
+        oracle(folder)
+        return 0
     print("| | one albedo | retinex | unpainted |\n|---|---|---|---|")
     painted_set()
     print("\n| DiLiGenT | calibrated, one albedo | calibrated, retinex | estimated, one albedo | estimated, retinex "
           "| flat plane |\n|---|---|---|---|---|---|")
-    diligent(Path(sys.argv[1]) if len(sys.argv) > 1 else REPO.parent / "shared" / "data" / "diligent")
+    diligent(folder)
     return 0
 
 

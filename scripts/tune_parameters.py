@@ -25,8 +25,9 @@ plain, under their own light, with sensor noise (sigma = 0.01 sqrt(I) + 0.003 pe
 graphcut's mean angular error (true light, albedo estimated): first the two edge thresholds together,
 then the share of the albedo below which a pixel is shadow, then the rim, then the highlight factor
 on the same renders with each Blinn-Phong lobe of the albedo's training (TRAINING_HIGHLIGHTS, up to
-twice the diffuse albedo, clipped at 1) too; last, retinex with the chosen values against top_fit
-decides albedo_method's default.
+twice the diffuse albedo, clipped at 1) too; then, on those, the highlight_threshold of the shading
+image (kRetinexHighlightThreshold; the stages before it fill no highlight); last, retinex with the
+chosen values against top_fit decides albedo_method's default.
 
 graphcut's coarse_to_fine_radius trades speed for accuracy, so it is not chosen by the lowest error
 but, with --band-radius, as the smallest radius whose mean error on the training surfaces (at 256
@@ -285,6 +286,7 @@ RETINEX_EDGES = [(chroma, intensity) for chroma in (0.01, 0.02, 0.04, 0.08) for 
 RETINEX_SHADOWS = (0.005, 0.01, 0.02, 0.05)
 RETINEX_RIMS = (0, 2, 4, 8)
 RETINEX_HIGHLIGHTS = (0.0, 1.0, 1.2, 1.5)
+RETINEX_HIGHLIGHT_THRESHOLDS = (0.0, 1.0, 1.02, 1.05, 1.1, 1.2, 1.5)
 PAINT_SEED = 100  # the tests paint with seeds below 100
 NOISE = (0.01, 0.003)  # sigma = a sqrt(I) + b, per channel
 
@@ -312,7 +314,8 @@ def tune_retinex(surfaces: dict) -> None:
                               for image, scene in renders]))
 
     renders = painted_renders(surfaces)
-    chosen = {"albedo_method": "retinex", "retinex_rim": 4, "retinex_highlight": 0.0, "retinex_shadow": 0.05}
+    chosen = {"albedo_method": "retinex", "retinex_rim": 4, "retinex_highlight": 0.0, "retinex_shadow": 0.05,
+              "highlight_threshold": 0.0}
     print(f"retinex: graphcut's mean error over {len(renders)} painted and plain noisy training renders")
     scored = []
     for chroma, intensity in RETINEX_EDGES:
@@ -335,8 +338,13 @@ def tune_retinex(surfaces: dict) -> None:
         by_highlight.append((score(shiny, **{**chosen, "retinex_highlight": factor}), factor))
         print(f"  highlight {factor} (with highlight renders too): {by_highlight[-1][0]:.2f} deg", flush=True)
     chosen["retinex_highlight"] = min(by_highlight)[1]
+    by_threshold = []
+    for threshold in RETINEX_HIGHLIGHT_THRESHOLDS:
+        by_threshold.append((score(shiny, **{**chosen, "highlight_threshold": threshold}), threshold))
+        print(f"  highlight_threshold {threshold} (with highlight renders too): {by_threshold[-1][0]:.2f} deg", flush=True)
+    chosen["highlight_threshold"] = min(by_threshold)[1]
     top_fit = score(shiny, albedo_method="top_fit")
-    retinex = min(by_highlight)[0]
+    retinex = min(by_threshold)[0]
     print(f"  top_fit on the same renders: {top_fit:.2f} deg; retinex {retinex:.2f} deg")
     print(f"  chosen: {chosen}; albedo_method default: {'retinex' if retinex < top_fit else 'top_fit'}")
 

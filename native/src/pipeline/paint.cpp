@@ -46,6 +46,7 @@ Reconstruction reconstruct_masked(const ImageF& image, const ColourImage* colour
         estimate_reflectance(image, colour, mask, reflectance_params(options), Progress(options.progress).range(0.0, 0.0));
     const double seconds = stopwatch.seconds();
     ReconstructOptions shading_options = options;
+    shading_options.highlight_threshold = highlight_threshold_used(options);
     shading_options.albedo_method = AlbedoMethod::TopFit;
     result = detail::reconstruct_shading(mask.select(image / reflectance.relative, 0.0f), light, &mask, albedo, shading_options);
     result.albedo_map = mask.select(reflectance.relative * float(result.albedo), 0.0f);

@@ -238,9 +238,9 @@ void detail::check_options(const ReconstructOptions& options, const Mask& mask) 
   if (!(options.shadow_threshold >= 0.0 && options.shadow_threshold < 1.0))
     throw InvalidArgument("shadecut: shadow_threshold must be in [0, 1) (a fraction of the albedo); got " +
                           number_text(options.shadow_threshold));
-  if (!std::isfinite(options.highlight_threshold))
+  if (options.highlight_threshold && !std::isfinite(*options.highlight_threshold))
     throw InvalidArgument("shadecut: highlight_threshold must be finite (<= 0: never); got " +
-                          number_text(options.highlight_threshold));
+                          number_text(*options.highlight_threshold));
   if (options.paint_line_width < 0)
     throw InvalidArgument("shadecut: paint_line_width must be >= 0 pixels (< 2: off); got " + std::to_string(options.paint_line_width));
   if (!(options.paint_line_contrast > 1.0) || !std::isfinite(options.paint_line_contrast))
@@ -274,7 +274,7 @@ GlobalStepParams global_step_params(const ReconstructOptions& options) {
   // Tuned for graphcut only (docs/parameters.md).
   params.viscosity_weight = options.method == Method::GraphCut ? options.viscosity_weight : 0.0;
   params.shadow_threshold = shadow_threshold_used(options);
-  params.highlight_threshold = options.highlight_threshold;
+  params.highlight_threshold = highlight_threshold_used(options);
   params.occluding_contour = edge_is_outline(options);
   params.max_slope = options.max_slope;
   return params;
@@ -410,6 +410,11 @@ MethodDefaults method_defaults(Method method) {
   throw InvalidArgument("shadecut: unknown method");
 }
 
+double highlight_threshold_used(const ReconstructOptions& options) {
+  if (options.highlight_threshold) return *options.highlight_threshold;
+  return options.albedo_method == AlbedoMethod::Retinex ? kRetinexHighlightThreshold : kHighlightThreshold;
+}
+
 Reconstruction detail::reconstruct_shading(const ImageF& input, const std::optional<Eigen::Vector3d>& light,
                                            const Mask* mask_in, std::optional<double> albedo,
                                            const ReconstructOptions& options) {
@@ -436,7 +441,7 @@ Reconstruction detail::reconstruct_shading(const ImageF& input, const std::optio
   const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
   const detail::ThreadCountScope threads(options.threads);
   const Mask unreliable =
-      unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), options.highlight_threshold);
+      unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), highlight_threshold_used(options));
   NormalMap normals = solve_normals(image, mask, frame, result.albedo, options, progress.range(0.0, kNormalsShare), result.stats);
   progress.report(kNormalsShare, "integration");
   const Stopwatch integration;

@@ -4,6 +4,7 @@
 
 #include <shadecut/estimate/estimate_reflectance.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
+#include <shadecut/support/angular_error.hpp>
 #include <shadecut/support/errors.hpp>
 
 #include <gtest/gtest.h>
@@ -102,6 +103,39 @@ TEST(EstimateReflectance, TheDeLitColourIsThePaintsColour) {
       EXPECT_NEAR(red / green, 0.6 / 0.35, 1e-3);
     }
   }
+}
+
+TEST(EstimateReflectance, RetinexFillsTheShadingImagesHighlightsUnlessTold) {
+  ReconstructOptions options;
+  EXPECT_EQ(highlight_threshold_used(options), kHighlightThreshold);
+  options.albedo_method = AlbedoMethod::Retinex;
+  EXPECT_EQ(highlight_threshold_used(options), kRetinexHighlightThreshold);
+  options.highlight_threshold = 0.0;
+  EXPECT_EQ(highlight_threshold_used(options), 0.0);
+
+  // The painted sphere with a white glow where it faces halfway between the light and the viewer:
+  // no paint edge is read in it, so it stays in the shading image, above the albedo, and is filled.
+  PaintedSphere shiny;
+  const Eigen::Vector3d halfway = (kLight.normalized() + Eigen::Vector3d::UnitZ()).normalized();
+  for (Eigen::Index r = 0; r < 96; ++r) {
+    for (Eigen::Index c = 0; c < 96; ++c) {
+      if (!shiny.scene.mask(r, c)) continue;
+      const Eigen::Vector3d normal = shiny.scene.normals.xyz.row(r * 96 + c).transpose().cast<double>();
+      const float glow = float(0.6 * std::pow(std::max(0.0, normal.dot(halfway)), 40.0));
+      for (ImageF& channel : shiny.colour.channel) channel(r, c) += glow;
+    }
+  }
+  const Mask inner = erode_mask(shiny.scene.mask, 2);
+  auto error = [&](std::optional<double> threshold) {
+    ReconstructOptions retinex;
+    retinex.albedo_method = AlbedoMethod::Retinex;
+    retinex.highlight_threshold = threshold;
+    return mean_angular_error(reconstruct(shiny.colour, kLight, &shiny.scene.mask, std::nullopt, retinex).normals,
+                              shiny.scene.normals, inner);
+  };
+  const double unset = error(std::nullopt), filled = error(kRetinexHighlightThreshold), kept = error(0.0);
+  EXPECT_EQ(unset, filled);
+  EXPECT_LT(filled, kept);
 }
 
 TEST(EstimateReflectance, BadInputIsRefused) {

@@ -113,7 +113,7 @@ TEST(Reconstruct, TheViscosityPullKeepsTheSurfaceThatExplainsTheImageBetter) {
     options.viscosity_weight = 0.3;
     const Reconstruction chosen = reconstruct(scene.image, light, &scene.mask, 1.0, options);
     const Mask counted = scene.mask && !unreliable_pixels(scene.image, scene.mask, 1.0, options.shadow_threshold,
-                                                          options.highlight_threshold);
+                                                          highlight_threshold_used(options));
     auto residual = [&](const ImageF& depth) {
       return brightness_residual(depth, scene.image, scene.mask, counted, light, 1.0) / double(counted.count());
     };

@@ -59,6 +59,12 @@ struct MethodDefaults {
 };
 MethodDefaults method_defaults(Method method);
 
+/// highlight_threshold when unset with one albedo (top_fit, brightest): never.
+constexpr double kHighlightThreshold = 0.0;
+/// highlight_threshold when unset with albedo_method retinex: the shading image keeps the highlights
+/// the paint step does not read, and every pixel above its albedo is one of them.
+constexpr double kRetinexHighlightThreshold = 1.0;
+
 /// The fewest tilt labels the energy can be built with.
 constexpr int kMinLabels = 4;
 /// The most threads a call may ask for: more than the machine has only costs memory.
@@ -107,9 +113,9 @@ struct ReconstructOptions {
   double retinex_highlight = 0.0;
   double retinex_shadow = 0.05;
   /// Pixels brighter than this times the albedo, which no Lambertian surface of that albedo shows
-  /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never
-  /// (the default, tuned: docs/parameters.md).
-  double highlight_threshold = 0.0;
+  /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never.
+  /// Unset = by albedo method (highlight_threshold_used), both tuned (docs/parameters.md).
+  std::optional<double> highlight_threshold;
   std::optional<double> min_curvature;      ///< curvature in units of the object below which the local tilt is undefined (local_shape); unset = method_defaults
   bool refine = true;                       ///< snap labels to the exact local candidate (labelling_normals)
   double max_slope = 10.0;                  ///< gradient clamp of the integrator
@@ -157,6 +163,10 @@ struct ReconstructOptions {
   /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading". Returning false cancels.
   ProgressCallback progress;
 };
+
+/// The highlight threshold a call uses: options.highlight_threshold, or when unset
+/// kRetinexHighlightThreshold with albedo_method retinex and kHighlightThreshold otherwise.
+double highlight_threshold_used(const ReconstructOptions& options);
 
 struct ReconstructStats {
   std::map<std::string, double> seconds;    ///< per stage run ("light", "local", "energy", "graphcut",
