@@ -147,6 +147,8 @@ void bind_reconstruct(py::module_& m) {
       "A copy with the given fields set.");
   options.def("light_method_used", &light_method_used,
               "The light estimator reconstruct() uses when given no light: light_method, or by scene when None.");
+  options.def("highlight_threshold_used", &highlight_threshold_used,
+              "The highlight threshold reconstruct() uses: highlight_threshold, or by albedo_method when None.");
   py::class_<MethodDefaults>(m, "MethodDefaults",
                              "The values a method uses for the options left None (tuned: docs/parameters.md); 0 = unused.")
       .def_readonly("min_curvature", &MethodDefaults::min_curvature)

@@ -112,3 +112,12 @@ def test_the_docs_state_every_method_default():
         # A field the method uses for an option left None is shown beside it.
         shown = repr(shadecut.ReconstructOptions(method=method))
         assert f"min_curvature=None ({method}: {values.min_curvature!r})" in shown
+
+
+def test_the_highlight_threshold_left_none_follows_the_albedo_method_as_the_docs_say():
+    row = " ".join(table_rows("option")["highlight_threshold"])
+    retinex = DEFAULTS.replace(albedo_method="retinex")
+    assert DEFAULTS.highlight_threshold is None and DEFAULTS.highlight_threshold_used() <= 0.0
+    assert "never with one albedo" in row
+    assert f"{retinex.highlight_threshold_used():g} with `retinex`" in row
+    assert retinex.replace(highlight_threshold=0.0).highlight_threshold_used() == 0.0
