@@ -26,7 +26,8 @@ PAINT_DESCRIPTIONS = {
     "top_fit": ("One colour", "The object has one paint: every change of brightness is shape"),
     "brightest": ("One colour, brightest", "One paint, read from the brightest pixel (no highlights in the photo)"),
     "retinex": ("Painted", "Paint, print or stains: changes of colour (and sharp changes of brightness) are paint, "
-                           "not shape; the de-lit colour becomes the material's colour"),
+                           "not shape; the de-lit colour becomes the material's colour. A glossy object of one "
+                           "colour is better read as One colour: its highlight would pass for white paint"),
 }
 PAINT_ITEMS = tuple((name, *PAINT_DESCRIPTIONS.get(name, (name, name))) for name in AlbedoMethod.__members__)
 
