@@ -37,13 +37,18 @@ def painted_set() -> None:
     print("| painted test set (12 renders) | " + " | ".join(f"{np.mean(e):.2f}" for e in errors.values()) + " |")
 
 
-def diligent(folder: Path) -> None:
+def diligent_objects(folder: Path):
+    """(name, photographs, mask, true normals, the mask eroded as every evaluation measures) of each
+    DiLiGenT object present in ``folder``, read as the tests read them."""
     test_paint.DILIGENT = folder
     for name in ("ball", "cat", "reading"):
-        if not (folder / f"{name}PNG").is_dir():
-            continue
-        photos, mask, normals = test_paint.diligent_photos(name)
-        inner = shadecut.erode_mask(mask, 2)
+        if (folder / f"{name}PNG").is_dir():
+            photos, mask, normals = test_paint.diligent_photos(name)
+            yield name, photos, mask, normals, shadecut.erode_mask(mask, 2)
+
+
+def diligent(folder: Path) -> None:
+    for name, photos, mask, normals, inner in diligent_objects(folder):
         flat = np.zeros_like(normals)
         flat[..., 2] = 1.0
         row = []
@@ -57,17 +62,12 @@ def diligent(folder: Path) -> None:
 
 
 def oracle(folder: Path) -> None:
-    test_paint.DILIGENT = folder
-    for name in ("ball", "cat", "reading"):
-        if not (folder / f"{name}PNG").is_dir():
-            continue
-        photos, mask, normals = test_paint.diligent_photos(name)
+    for name, photos, mask, normals, inner in diligent_objects(folder):
         grey = np.stack([rgb @ np.array(LUMINANCE) for rgb, _ in photos], axis=-1)
         lights = np.array([light for _, light in photos])
         shading = np.maximum(np.einsum("hwc,kc->hwk", normals, lights), 0.0)
         albedo = (grey * shading).sum(axis=-1) / np.maximum((shading ** 2).sum(axis=-1), 1e-9)
         relative = np.maximum(albedo / np.percentile(albedo[mask], 90), 0.05)
-        inner = shadecut.erode_mask(mask, 2)
         errors = [shadecut.angular_error(shadecut.reconstruct(np.where(mask, grey[..., k] / relative, 0).astype(np.float32),
                                                               light, mask).normals, normals, inner)
                   for k, (_, light) in enumerate(photos)]
