@@ -23,11 +23,11 @@ The paint separation (albedo_method retinex) is chosen by the same procedure wit
 training surfaces painted (shadecut.synthetic.paint: patches, stripes, text, seeds of their own) and
 plain, under their own light, with sensor noise (sigma = 0.01 sqrt(I) + 0.003 per channel), scored by
 graphcut's mean angular error (true light, albedo estimated): first the two edge thresholds together,
-then the share of the albedo below which a pixel is shadow, then the rim, then the highlight factor
-on the same renders with each Blinn-Phong lobe of the albedo's training (TRAINING_HIGHLIGHTS, up to
-twice the diffuse albedo, clipped at 1) too; then, on those, the highlight_threshold of the shading
-image (kRetinexHighlightThreshold; the stages before it fill no highlight); last, retinex with the
-chosen values against top_fit decides albedo_method's default.
+then the share of the albedo below which a pixel is shadow, then the rim, then, on the same renders
+with each Blinn-Phong lobe of the albedo's training (TRAINING_HIGHLIGHTS, up to twice the diffuse
+albedo, clipped at 1) too, the highlight factor and the highlight_threshold of the shading image
+(kRetinexHighlightThreshold; the stages before it fill no highlight) together, on one grid; last,
+retinex with the chosen values against top_fit decides albedo_method's default.
 
 graphcut's coarse_to_fine_radius trades speed for accuracy, so it is not chosen by the lowest error
 but, with --band-radius, as the smallest radius whose mean error on the training surfaces (at 256
@@ -285,8 +285,7 @@ def tune_light_method(surfaces: dict) -> None:
 RETINEX_EDGES = [(chroma, intensity) for chroma in (0.01, 0.02, 0.04, 0.08) for intensity in (0.0, 0.05, 0.1, 0.2, 0.5, 1.0)]
 RETINEX_SHADOWS = (0.005, 0.01, 0.02, 0.05)
 RETINEX_RIMS = (0, 2, 4, 8)
-RETINEX_HIGHLIGHTS = (0.0, 1.0, 1.2, 1.5)
-RETINEX_HIGHLIGHT_THRESHOLDS = (0.0, 1.0, 1.02, 1.05, 1.1, 1.2, 1.5)
+RETINEX_HIGHLIGHT_GRID = list(itertools.product((0.0, 1.0, 1.2, 1.5), (0.0, 1.0, 1.05, 1.2)))  # (factor, threshold)
 PAINT_SEED = 100  # the tests paint with seeds below 100
 NOISE = (0.01, 0.003)  # sigma = a sqrt(I) + b, per channel
 
@@ -333,18 +332,16 @@ def tune_retinex(surfaces: dict) -> None:
         print(f"  rim {rim}: {by_rim[-1][0]:.2f} deg", flush=True)
     chosen["retinex_rim"] = min(by_rim)[1]
     shiny = [render for highlight in TRAINING_HIGHLIGHTS[1:] for render in painted_renders(surfaces, highlight)] + renders
+    # The two highlight rules together: the fill of the shading image changes what the paint edges in a
+    # highlight's glow do to the shape, so neither is chosen as if the other were off.
     by_highlight = []
-    for factor in RETINEX_HIGHLIGHTS:
-        by_highlight.append((score(shiny, **{**chosen, "retinex_highlight": factor}), factor))
-        print(f"  highlight {factor} (with highlight renders too): {by_highlight[-1][0]:.2f} deg", flush=True)
-    chosen["retinex_highlight"] = min(by_highlight)[1]
-    by_threshold = []
-    for threshold in RETINEX_HIGHLIGHT_THRESHOLDS:
-        by_threshold.append((score(shiny, **{**chosen, "highlight_threshold": threshold}), threshold))
-        print(f"  highlight_threshold {threshold} (with highlight renders too): {by_threshold[-1][0]:.2f} deg", flush=True)
-    chosen["highlight_threshold"] = min(by_threshold)[1]
+    for factor, threshold in RETINEX_HIGHLIGHT_GRID:
+        by_highlight.append((score(shiny, **{**chosen, "retinex_highlight": factor, "highlight_threshold": threshold}),
+                             factor, threshold))
+        print(f"  highlight {factor}, highlight_threshold {threshold} (with highlight renders too): "
+              f"{by_highlight[-1][0]:.2f} deg", flush=True)
+    retinex, chosen["retinex_highlight"], chosen["highlight_threshold"] = min(by_highlight)
     top_fit = score(shiny, albedo_method="top_fit")
-    retinex = min(by_threshold)[0]
     print(f"  top_fit on the same renders: {top_fit:.2f} deg; retinex {retinex:.2f} deg")
     print(f"  chosen: {chosen}; albedo_method default: {'retinex' if retinex < top_fit else 'top_fit'}")
 
