@@ -118,6 +118,7 @@ void bind_reconstruct(py::module_& m) {
   option(options, names, "retinex_intensity_edge", &ReconstructOptions::retinex_intensity_edge);
   option(options, names, "retinex_rim", &ReconstructOptions::retinex_rim);
   option(options, names, "retinex_shadow", &ReconstructOptions::retinex_shadow);
+  option(options, names, "retinex_passes", &ReconstructOptions::retinex_passes);
   option(options, names, "retinex_highlight", &ReconstructOptions::retinex_highlight);
   option(options, names, "highlight_threshold", &ReconstructOptions::highlight_threshold);
   option(options, names, "min_curvature", &ReconstructOptions::min_curvature);

@@ -29,6 +29,7 @@ LIGHT = (1.0, 0.0, 1.0)
         (np.dstack([GOOD, GOOD, -GOOD]), LIGHT, {}, "negative"),
         (GOOD, LIGHT, {"albedo_method": "retinex", "retinex_rim": -1}, "retinex_rim"),
         (GOOD, LIGHT, {"albedo_method": "retinex", "retinex_shadow": -0.01}, "retinex_shadow"),
+        (GOOD, LIGHT, {"albedo_method": "retinex", "retinex_passes": 0}, "retinex_passes"),
         (GOOD, LIGHT, {"albedo_method": "retinex", "retinex_chroma_edge": float("nan")}, "retinex_chroma_edge"),
         (np.where(GOOD > 0.6, np.nan, GOOD), LIGHT, {}, "NaN or infinite"),
         (np.where(GOOD > 0.6, np.inf, GOOD), LIGHT, {}, "NaN or infinite"),

@@ -134,6 +134,16 @@ def test_progress_reports_stages_and_false_cancels():
         shadecut.reconstruct(sphere.image, sphere.light, sphere.mask, progress=lambda f, s: s != "graphcut")
 
 
+def test_the_paint_passes_report_one_progress_from_0_to_1():
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=48)
+    seen = []
+    shadecut.reconstruct(sphere.image, sphere.light, sphere.mask, albedo_method="retinex", retinex_passes=3,
+                         progress=lambda f, s: seen.append((f, s)))
+    fractions = [f for f, _ in seen]
+    assert fractions == sorted(fractions) and fractions[0] == 0.0 and fractions[-1] == 1.0
+    assert [s for _, s in seen].count("albedo") >= 3  # each pass reads the paint
+
+
 def test_a_progress_callback_that_raises_propagates_its_exception():
     sphere = synthetic.sphere((1.0, 0.0, 1.0), size=32)
 

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace shadecut {
@@ -57,10 +58,16 @@ struct Cues {
   std::array<ImageF, 3> chroma;  // of the smoothed colour image; empty for grey
   Mask readable;                 // masked, neither shadow nor highlight
   Mask inner;                    // readable and at least `rim` pixels inside the mask
+  ImageF log_shading;            // of a surface found before, where it can be read; NaN elsewhere; empty: none
 };
 
-Cues read_cues(const ImageF& intensity, const ColourImage* colour, const Mask& mask, const ReflectanceParams& params) {
+Cues read_cues(const ImageF& intensity, const ColourImage* colour, const Mask& mask, const ReflectanceParams& params,
+               const ImageF* shading) {
   Cues cues;
+  if (shading) {
+    const float dark = float(kReflectanceDarkShare) * mask.select(*shading, 0.0f).maxCoeff();
+    cues.log_shading = (mask && *shading > dark).select(shading->max(1e-12f).log(), std::numeric_limits<float>::quiet_NaN());
+  }
   const double albedo = estimate_albedo(intensity, mask);
   const double dark = params.shadow * albedo;
   const double bright = params.highlight > 0.0 ? params.highlight * albedo : INFINITY;
@@ -100,7 +107,8 @@ bool is_edge(const Cues& cues, const ReflectanceParams& params, Eigen::Index r, 
 }
 
 // The log-reflectance steps along one axis: at a paint edge between two readable pixels, the image's
-// step less the shading's, the mean of the nearest non-edge steps before and after it; 0 elsewhere.
+// step less the shading's: the step of the surface found before where it can be read, else the mean
+// of the nearest non-edge image steps before and after the edge; 0 elsewhere.
 std::vector<double> reflectance_steps(const Cues& cues, const ReflectanceParams& params, bool across_rows, int& edges) {
   const Eigen::Index rows = cues.readable.rows(), cols = cues.readable.cols();
   const Eigen::Index lines = across_rows ? cols : rows, length = across_rows ? rows : cols;
@@ -119,6 +127,16 @@ std::vector<double> reflectance_steps(const Cues& cues, const ReflectanceParams&
     }
     for (Eigen::Index i = 0; i + 1 < length; ++i) {
       if (!edge[std::size_t(i)]) continue;
+      const auto [r, c] = pixel(i);
+      if (cues.log_shading.size()) {
+        const auto [r1, c1] = pixel(i + 1);
+        const double surface = double(cues.log_shading(r1, c1)) - double(cues.log_shading(r, c));
+        if (std::isfinite(surface)) {
+          steps[std::size_t(r * cols + c)] = image_step[std::size_t(i)] - surface;
+          ++edges;
+          continue;
+        }
+      }
       double shading = 0.0;
       int found = 0;
       for (int side : {-1, 1}) {
@@ -131,7 +149,6 @@ std::vector<double> reflectance_steps(const Cues& cues, const ReflectanceParams&
           break;
         }
       }
-      const auto [r, c] = pixel(i);
       steps[std::size_t(r * cols + c)] = image_step[std::size_t(i)] - (found ? shading / found : 0.0);
       ++edges;
     }
@@ -142,7 +159,7 @@ std::vector<double> reflectance_steps(const Cues& cues, const ReflectanceParams&
 }  // namespace
 
 Reflectance estimate_reflectance(const ImageF& intensity, const ColourImage* colour, const Mask& mask,
-                                 const ReflectanceParams& params, const Progress& progress) {
+                                 const ReflectanceParams& params, const Progress& progress, const ImageF* shading) {
   check_image(intensity);
   check_mask(mask, intensity);
   if (colour) {
@@ -157,7 +174,9 @@ Reflectance estimate_reflectance(const ImageF& intensity, const ColourImage* col
       !std::isfinite(params.highlight) || params.rim < 0 || !(params.shadow >= 0.0 && params.shadow < 1.0))
     throw InvalidArgument("shadecut: the reflectance settings must be finite, chroma_edge and rim >= 0, shadow in [0, 1)");
   progress.report(0.0, "albedo");
-  const Cues cues = read_cues(intensity, colour, mask, params);
+  if (shading && (shading->rows() != intensity.rows() || shading->cols() != intensity.cols() || !shading->isFinite().all()))
+    throw InvalidArgument("shadecut: the shading must be finite and of the intensity's shape");
+  const Cues cues = read_cues(intensity, colour, mask, params, shading);
   Reflectance result;
   detail::EdgeRises rises;
   rises.right = reflectance_steps(cues, params, false, result.edge_pairs);

@@ -4,12 +4,14 @@
 #include <shadecut/pipeline/cut_out.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/errors.hpp>
+#include <shadecut/support/render.hpp>
 #include <shadecut/support/validate.hpp>
 
 #include "pipeline/reconstruct_shading.hpp"
 #include "support/stopwatch.hpp"
 
 #include <cmath>
+#include <optional>
 
 namespace shadecut {
 
@@ -27,6 +29,8 @@ void check_paint_options(const ReconstructOptions& options) {
     throw InvalidArgument("shadecut: retinex_shadow must be in [0, 1) (a share of the albedo); got " + number_text(options.retinex_shadow));
   if (options.retinex_rim < 0)
     throw InvalidArgument("shadecut: retinex_rim must be >= 0; got " + std::to_string(options.retinex_rim));
+  if (options.retinex_passes < 1)
+    throw InvalidArgument("shadecut: retinex_passes must be >= 1; got " + std::to_string(options.retinex_passes));
 }
 
 Reconstruction reconstruct_masked(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
@@ -41,17 +45,33 @@ Reconstruction reconstruct_masked(const ImageF& image, const ColourImage* colour
     const Mask mask = mask_in ? *mask_in : Mask::Constant(image.rows(), image.cols(), true);
     check_mask(mask, image);
     detail::check_options(options, mask);  // before the paint is read, not after
-    const Stopwatch stopwatch;
-    const Reflectance reflectance =
-        estimate_reflectance(image, colour, mask, reflectance_params(options), Progress(options.progress).range(0.0, 0.0));
-    const double seconds = stopwatch.seconds();
     ReconstructOptions shading_options = options;
     shading_options.highlight_threshold = highlight_threshold_used(options);
     shading_options.albedo_method = AlbedoMethod::TopFit;
-    result = detail::reconstruct_shading(mask.select(image / reflectance.relative, 0.0f), light, &mask, albedo, shading_options);
-    result.albedo_map = mask.select(reflectance.relative * float(result.albedo), 0.0f);
+    double seconds = 0.0, total = 0.0;
+    ImageF relative;
+    const int passes = options.retinex_passes;
+    for (int pass = 0; pass < passes; ++pass) {
+      const Stopwatch stopwatch;
+      std::optional<ImageF> shading;
+      if (pass > 0)
+        shading = render_lambertian(normals_from_depth(result.depth, result.mask), result.light, 1.0, result.mask);
+      const double start = double(pass) / passes;
+      relative = estimate_reflectance(image, colour, mask, reflectance_params(options), Progress(options.progress).range(start, start),
+                                      shading ? &*shading : nullptr)
+                     .relative;
+      // Each pass reports its reconstruction as its own share of the call.
+      if (options.progress)
+        shading_options.progress = [callback = options.progress, start, passes](double fraction, const std::string& stage) {
+          return callback(start + fraction / passes, stage);
+        };
+      seconds += stopwatch.seconds();
+      result = detail::reconstruct_shading(mask.select(image / relative, 0.0f), light, &mask, albedo, shading_options);
+      total += result.stats.seconds["total"];
+    }
+    result.albedo_map = mask.select(relative * float(result.albedo), 0.0f);
     result.stats.seconds["albedo"] = seconds;
-    result.stats.seconds["total"] += seconds;
+    result.stats.seconds["total"] = total + seconds;
   } else {
     result = detail::reconstruct_shading(image, light, mask_in, albedo, options);
     result.albedo_map = result.mask.select(ImageF::Constant(image.rows(), image.cols(), float(result.albedo)), 0.0f);

@@ -72,6 +72,27 @@ TEST(EstimateReflectance, AGreyPaintStepIsReadFromTheIntensityAlone) {
   EXPECT_NEAR(ratio, right / left, 0.1 * right / left);
 }
 
+// With the shading of the true surface given, each paint edge's shading step is the surface's own,
+// not the image's steps beside the edge: on a full-frame bump field painted in two halves (every
+// boundary pair readable) the grey cue then recovers the paint exactly; the steps beside the edge,
+// bent by the bumps, do not.
+TEST(EstimateReflectance, ASurfaceFoundBeforeGivesEachEdgeItsShadingStep) {
+  const testing::Scene bumps = testing::bumps_scene(96, kLight);
+  ImageF painted = bumps.image;
+  painted.leftCols(48) *= float(kLeftPaint);
+  painted.rightCols(48) *= float(kRightPaint);
+  auto worst_error = [&](const ImageF* shading) {
+    const Reflectance reflectance = estimate_reflectance(painted, nullptr, bumps.mask, params(), {}, shading);
+    // Relative to the right half's paint, which sits at the 90th percentile.
+    const ImageF truth = (ImageF(96, 96) << ImageF::Constant(96, 48, float(kLeftPaint / kRightPaint)),
+                          ImageF::Ones(96, 48)).finished();
+    return (reflectance.relative.log() - truth.log()).abs().maxCoeff();
+  };
+  const ImageF true_shading = bumps.image * 3.0f;  // any scale: only its steps count
+  EXPECT_LT(worst_error(&true_shading), 1e-3);
+  EXPECT_GT(worst_error(nullptr), 0.01);
+}
+
 // Shading never changes the colour: the colour cue alone leaves a plain sphere of one albedo exactly.
 // (The grey cue does not: near the outline a sphere's shading falls off fast enough to read as paint,
 // docs/method.md#paint-albedo_methodretinex.)
@@ -149,9 +170,17 @@ TEST(EstimateReflectance, BadInputIsRefused) {
   ColourImage small = painted.colour;
   small.channel[2] = ImageF::Zero(4, 4);
   EXPECT_THROW(estimate_reflectance(painted.intensity, &small, painted.scene.mask, params()), InvalidArgument);
+  const ImageF small_shading = ImageF::Ones(4, 4);
+  EXPECT_THROW(estimate_reflectance(painted.intensity, nullptr, painted.scene.mask, params(), {}, &small_shading), InvalidArgument);
+  ImageF infinite_shading = painted.scene.image;
+  infinite_shading(48, 48) = INFINITY;
+  EXPECT_THROW(estimate_reflectance(painted.intensity, nullptr, painted.scene.mask, params(), {}, &infinite_shading), InvalidArgument);
   ReconstructOptions options;
   options.albedo_method = AlbedoMethod::Retinex;
   options.retinex_chroma_edge = std::nan("");
+  EXPECT_THROW(reconstruct(painted.colour, kLight, &painted.scene.mask, std::nullopt, options), InvalidArgument);
+  options.retinex_chroma_edge = 0.02;
+  options.retinex_passes = 0;
   EXPECT_THROW(reconstruct(painted.colour, kLight, &painted.scene.mask, std::nullopt, options), InvalidArgument);
 }
 

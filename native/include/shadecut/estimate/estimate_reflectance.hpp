@@ -50,8 +50,12 @@ struct Reflectance {
 /// @param[in] mask      H x W pixels of the object.
 /// @param[in] params    see ReflectanceParams.
 /// @param[in] progress  stage "albedo"; may throw Cancelled.
+/// @param[in] shading   H x W shading of a surface found before (any scale), or nullptr: where it is
+///                      above kReflectanceDarkShare of its maximum at both ends of a paint edge, the
+///                      edge's shading step is its step, not the image's steps beside the edge.
 Reflectance estimate_reflectance(const ImageF& intensity, const ColourImage* colour, const Mask& mask,
-                                 const ReflectanceParams& params, const Progress& progress = {});
+                                 const ReflectanceParams& params, const Progress& progress = {},
+                                 const ImageF* shading = nullptr);
 
 /// The colour of the reflectance: the image's chromaticity times `grey_albedo` (H x W, the grey albedo
 /// per pixel), spread from the pixels where it can be read (brighter than kReflectanceDarkShare of the
