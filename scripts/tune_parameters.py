@@ -26,8 +26,11 @@ graphcut's mean angular error (true light, albedo estimated): first the two edge
 then the share of the albedo below which a pixel is shadow, then the rim, then, on the same renders
 with each Blinn-Phong lobe of the albedo's training (TRAINING_HIGHLIGHTS, up to twice the diffuse
 albedo, clipped at 1) too, the highlight factor and the highlight_threshold of the shading image
-(kRetinexHighlightThreshold; the stages before it fill no highlight) together, on one grid; last,
-retinex with the chosen values against top_fit decides albedo_method's default.
+(kRetinexHighlightThreshold; the stages before it fill no highlight) together, on one grid; then, on
+the same renders, the number of passes (each after the first reads the paint against the surface the
+pass before found; the stages before read it once), one more while its mean gain over the renders
+is more than PASS_GAIN_SIGMAS standard errors of the paired gains; last, retinex with the chosen values against top_fit decides albedo_method's
+default.
 
 graphcut's coarse_to_fine_radius trades speed for accuracy, so it is not chosen by the lowest error
 but, with --band-radius, as the smallest radius whose mean error on the training surfaces (at 256
@@ -286,6 +289,7 @@ RETINEX_EDGES = [(chroma, intensity) for chroma in (0.01, 0.02, 0.04, 0.08) for 
 RETINEX_SHADOWS = (0.005, 0.01, 0.02, 0.05)
 RETINEX_RIMS = (0, 2, 4, 8)
 RETINEX_HIGHLIGHT_GRID = list(itertools.product((0.0, 1.0, 1.2, 1.5), (0.0, 1.0, 1.05, 1.2)))  # (factor, threshold)
+PASS_GAIN_SIGMAS = 2.0  # a pass is kept when its gain is this many standard errors above none
 PAINT_SEED = 100  # the tests paint with seeds below 100
 NOISE = (0.01, 0.003)  # sigma = a sqrt(I) + b, per channel
 
@@ -308,13 +312,16 @@ def painted_renders(surfaces: dict, highlight: tuple = (0.0, 1.0)) -> list:
 
 
 def tune_retinex(surfaces: dict) -> None:
+    def errors(renders, **options) -> np.ndarray:
+        return np.array([scene.mean_error(shadecut.reconstruct(image, scene.light, scene.mask, **options).normals)
+                         for image, scene in renders])
+
     def score(renders, **options) -> float:
-        return float(np.mean([scene.mean_error(shadecut.reconstruct(image, scene.light, scene.mask, **options).normals)
-                              for image, scene in renders]))
+        return float(np.mean(errors(renders, **options)))
 
     renders = painted_renders(surfaces)
     chosen = {"albedo_method": "retinex", "retinex_rim": 4, "retinex_highlight": 0.0, "retinex_shadow": 0.05,
-              "highlight_threshold": 0.0}
+              "highlight_threshold": 0.0, "retinex_passes": 1}
     print(f"retinex: graphcut's mean error over {len(renders)} painted and plain noisy training renders")
     scored = []
     for chroma, intensity in RETINEX_EDGES:
@@ -341,6 +348,19 @@ def tune_retinex(surfaces: dict) -> None:
         print(f"  highlight {factor}, highlight_threshold {threshold} (with highlight renders too): "
               f"{by_highlight[-1][0]:.2f} deg", flush=True)
     retinex, chosen["retinex_highlight"], chosen["highlight_threshold"] = min(by_highlight)
+    # Each pass costs about one reconstruction: one more is taken only while it helps beyond the renders'
+    # own scatter, its mean gain over them above PASS_GAIN_SIGMAS standard errors of the paired gains.
+    passes, kept = 1, errors(shiny, **chosen)
+    while True:
+        more = errors(shiny, **{**chosen, "retinex_passes": passes + 1})
+        gain = kept - more
+        standard_error = gain.std(ddof=1) / np.sqrt(len(gain))
+        print(f"  passes {passes + 1} (with highlight renders too): {more.mean():.2f} deg, gain {gain.mean():.2f} "
+              f"(standard error {standard_error:.2f})", flush=True)
+        if gain.mean() <= PASS_GAIN_SIGMAS * standard_error:
+            break
+        passes, kept = passes + 1, more
+    retinex, chosen["retinex_passes"] = float(kept.mean()), passes
     top_fit = score(shiny, albedo_method="top_fit")
     print(f"  top_fit on the same renders: {top_fit:.2f} deg; retinex {retinex:.2f} deg")
     print(f"  chosen: {chosen}; albedo_method default: {'retinex' if retinex < top_fit else 'top_fit'}")

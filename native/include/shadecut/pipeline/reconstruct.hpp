@@ -115,7 +115,7 @@ struct ReconstructOptions {
   /// retinex: how many times the paint is read (>= 1). Each pass after the first reads the shading's
   /// step across every paint edge from the surface the pass before found (its depth's normals under
   /// the light), not from the image steps beside the edge: a surface is continuous where paint is not.
-  int retinex_passes = 1;
+  int retinex_passes = 2;
   /// Pixels brighter than this times the albedo, which no Lambertian surface of that albedo shows
   /// (highlights, saturation), are filled from their neighbours like attached shadows; <= 0 = never.
   /// Unset = by albedo method (highlight_threshold_used), both tuned (docs/parameters.md).
