@@ -29,8 +29,8 @@ albedo, clipped at 1) too, the highlight factor and the highlight_threshold of t
 (kRetinexHighlightThreshold; the stages before it fill no highlight) together, on one grid; then, on
 the same renders, the number of passes (each after the first reads the paint against the surface the
 pass before found; the stages before read it once), one more while its mean gain over the renders
-is more than PASS_GAIN_SIGMAS standard errors of the paired gains; last, retinex with the chosen values against top_fit decides albedo_method's
-default.
+is more than PASS_GAIN_SIGMAS standard errors of the paired gains; last, retinex with the chosen
+values against top_fit decides albedo_method's default.
 
 graphcut's coarse_to_fine_radius trades speed for accuracy, so it is not chosen by the lowest error
 but, with --band-radius, as the smallest radius whose mean error on the training surfaces (at 256

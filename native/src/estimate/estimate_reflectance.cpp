@@ -174,8 +174,11 @@ Reflectance estimate_reflectance(const ImageF& intensity, const ColourImage* col
       !std::isfinite(params.highlight) || params.rim < 0 || !(params.shadow >= 0.0 && params.shadow < 1.0))
     throw InvalidArgument("shadecut: the reflectance settings must be finite, chroma_edge and rim >= 0, shadow in [0, 1)");
   progress.report(0.0, "albedo");
-  if (shading && (shading->rows() != intensity.rows() || shading->cols() != intensity.cols() || !shading->isFinite().all()))
-    throw InvalidArgument("shadecut: the shading must be finite and of the intensity's shape");
+  if (shading) {
+    check_image(*shading, "shading");
+    if (shading->rows() != intensity.rows() || shading->cols() != intensity.cols())
+      throw InvalidArgument("shadecut: the shading is not the intensity's shape");
+  }
   const Cues cues = read_cues(intensity, colour, mask, params, shading);
   Reflectance result;
   detail::EdgeRises rises;

@@ -11,6 +11,7 @@
 #include "support/stopwatch.hpp"
 
 #include <cmath>
+#include <map>
 #include <optional>
 
 namespace shadecut {
@@ -48,7 +49,8 @@ Reconstruction reconstruct_masked(const ImageF& image, const ColourImage* colour
     ReconstructOptions shading_options = options;
     shading_options.highlight_threshold = highlight_threshold_used(options);
     shading_options.albedo_method = AlbedoMethod::TopFit;
-    double seconds = 0.0, total = 0.0;
+    // Every stage's seconds summed over the passes, the paint's as "albedo".
+    std::map<std::string, double> seconds;
     ImageF relative;
     const int passes = options.retinex_passes;
     for (int pass = 0; pass < passes; ++pass) {
@@ -65,13 +67,14 @@ Reconstruction reconstruct_masked(const ImageF& image, const ColourImage* colour
         shading_options.progress = [callback = options.progress, start, passes](double fraction, const std::string& stage) {
           return callback(start + fraction / passes, stage);
         };
-      seconds += stopwatch.seconds();
+      const double paint_seconds = stopwatch.seconds();
+      seconds["albedo"] += paint_seconds;
+      seconds["total"] += paint_seconds;
       result = detail::reconstruct_shading(mask.select(image / relative, 0.0f), light, &mask, albedo, shading_options);
-      total += result.stats.seconds["total"];
+      for (const auto& [stage, stage_seconds] : result.stats.seconds) seconds[stage] += stage_seconds;
     }
     result.albedo_map = mask.select(relative * float(result.albedo), 0.0f);
-    result.stats.seconds["albedo"] = seconds;
-    result.stats.seconds["total"] = total + seconds;
+    result.stats.seconds = seconds;
   } else {
     result = detail::reconstruct_shading(image, light, mask_in, albedo, options);
     result.albedo_map = result.mask.select(ImageF::Constant(image.rows(), image.cols(), float(result.albedo)), 0.0f);

@@ -175,7 +175,8 @@ double highlight_threshold_used(const ReconstructOptions& options);
 struct ReconstructStats {
   std::map<std::string, double> seconds;    ///< per stage run ("light", "local", "energy", "graphcut",
                                             ///< "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading", "orientation": the
-                                            ///< inverted surface judged, judge_orientation) and "total"
+                                            ///< inverted surface judged, judge_orientation) and "total"; with retinex
+                                            ///< summed over its passes, beside "albedo" (the paint)
   std::vector<double> energy_per_cycle;     ///< initial energy, then after every alpha-expansion cycle
   int cycles = 0;
   int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps, upwind rounds; 0 for lee_rosenfeld
