@@ -7,7 +7,10 @@ Run: PYTHONPATH=addon /usr/bin/python3 scripts/measure_paint.py [DILIGENT_FOLDER
 --speed: the paint steps' own seconds (stats.seconds["albedo"], every pass) beside the whole call's,
 median of five calls, on the painted bump field at 512 and 1024 pixels (docs/benchmarks.md), or with --oracle
 [DILIGENT_FOLDER]: graphcut on DiLiGenT's photographs divided by the best relative albedo there is,
-the least-squares one of all 19 photographs under the true normals, 1 at its 90th percentile.
+the least-squares one of all 19 photographs under the true normals, 1 at its 90th percentile, or
+with --limits: on the painted test set, the albedo map's log-correlation with the paint by where each
+paint edge's shading step comes from (the image beside the edge, the surface a pass found, the true
+surface), and graphcut with fit_shading given the estimated paint, the true paint and no paint.
 """
 
 from __future__ import annotations
@@ -74,6 +77,43 @@ def oracle(folder: Path) -> None:
         print(f"| {name} | {np.mean(errors):.2f} |", flush=True)
 
 
+def log_correlation(albedo_map: np.ndarray, paint: np.ndarray, scene) -> float:
+    """As test_paint.py measures it: on the lit pixels, where the paint can be seen."""
+    lit = scene.mask & (scene.image > 0.05)
+    truth = paint @ np.array(LUMINANCE)
+    return float(np.corrcoef(np.log(albedo_map[lit]), np.log(truth[lit]))[0, 1])
+
+
+def limits() -> None:
+    cases = test_paint.painted_test_set()
+    steps = {
+        "the image's steps beside it (the first pass)":
+            lambda image, scene: shadecut.estimate_reflectance(image, scene.mask),
+        "the surface the first pass found (reconstruct's default passes)":
+            lambda image, scene: shadecut.reconstruct(image, scene.light, scene.mask, albedo_method="retinex").albedo_map,
+        "the same with fit_shading":
+            lambda image, scene: shadecut.reconstruct(image, scene.light, scene.mask, albedo_method="retinex",
+                                                      fit_shading=True).albedo_map,
+        "the true surface": lambda image, scene: shadecut.estimate_reflectance(
+            image, scene.mask, shadecut.render(scene.normals, scene.light, 1.0, scene.mask)),
+    }
+    print("| a paint edge's shading step read from | log-correlation, mean | min |\n|---|---|---|")
+    for name, albedo_map in steps.items():
+        correlations = [log_correlation(albedo_map(image, scene), paint, scene) for image, _, paint, scene in cases]
+        print(f"| {name} | {np.mean(correlations):.3f} | {np.min(correlations):.3f} |", flush=True)
+    errors = {"the paint estimated (retinex)": [], "the true paint divided out": [], "unpainted": []}
+    for image, uniform, paint, scene in cases:
+        fit = {"fit_shading": True}
+        errors["the paint estimated (retinex)"].append(scene.mean_error(
+            shadecut.reconstruct(image, scene.light, scene.mask, albedo_method="retinex", **fit).normals))
+        shading = (image @ np.array(LUMINANCE)) / (paint @ np.array(LUMINANCE))
+        errors["the true paint divided out"].append(scene.mean_error(
+            shadecut.reconstruct(shading.astype(np.float32), scene.light, scene.mask, **fit).normals))
+        errors["unpainted"].append(scene.mean_error(shadecut.reconstruct(uniform, scene.light, scene.mask, **fit).normals))
+    print("\n| graphcut with fit_shading | " + " | ".join(errors) + " |\n|---|---|---|---|")
+    print("| painted test set, mean error (degrees) | " + " | ".join(f"{np.mean(e):.2f}" for e in errors.values()) + " |")
+
+
 def speed() -> None:
     from shadecut import synthetic
 
@@ -97,6 +137,9 @@ def speed() -> None:
 def main() -> int:
     if "--speed" in sys.argv:
         speed()
+        return 0
+    if "--limits" in sys.argv:
+        limits()
         return 0
     folders = [Path(arg) for arg in sys.argv[1:] if not arg.startswith("--")]
     folder = folders[0] if folders else REPO.parent / "shared" / "data" / "diligent"

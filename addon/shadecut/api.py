@@ -310,6 +310,32 @@ def estimate_albedo(image, mask=None, method: Optional[str] = None,
     return _core.estimate_albedo(_real(image), _mask(mask), getattr(method, "name", method), window)
 
 
+def estimate_reflectance(image, mask=None, shading=None, *, options: Optional[ReconstructOptions] = None,
+                         **overrides) -> np.ndarray:
+    """The paint of a painted object, as :func:`reconstruct` with ``albedo_method="retinex"`` reads
+    it before the shape: an intrinsic decomposition (Retinex with colour, docs/method.md, Paint).
+
+    Args:
+        image: (H, W) linear intensity or (H, W, 3) linear RGB under one white light, finite, >= 0.
+        mask: (H, W) bool pixels of the object; None = every pixel.
+        shading: (H, W) shading of a surface found before, any scale (e.g. :func:`render` of its
+            normals); None = each paint edge's shading step is bridged from the image's steps beside
+            it, as the first pass does. Where it is given, the step across each paint edge is the
+            image's less this shading's, as every later pass does.
+        options: a :class:`ReconstructOptions` whose ``retinex_*`` fields and ``scene`` (a relief
+            reads edges up to its border) are used; None = the defaults.
+        **overrides: fields of :class:`ReconstructOptions` to change.
+
+    Returns:
+        (H, W) float32 reflectance relative to the object's bright paint: 1 at its 90th percentile
+        over the mask, 1 outside it. The image divided by it is the shading image of one albedo.
+    """
+    chosen = (options or ReconstructOptions()).replace(**overrides)
+    relative, _ = _core.estimate_reflectance(_real(image), _mask(mask), chosen,
+                                             None if shading is None else _real(shading))
+    return relative
+
+
 def _image_files():
     """The compiled module for image and mesh files, which links OpenImageIO; imported when first used,
     since the Blender add-on's zip does not ship it (Blender reads the images there)."""

@@ -51,6 +51,12 @@ ColourImage to_colour(const FloatArray& a, const char* what) {
   return colour;
 }
 
+void require_grey_or_colour(const FloatArray& a) {
+  if (a.ndim() != 2 && a.ndim() != 3)
+    throw InvalidArgument("shadecut: the image must be (H, W) intensity or (H, W, 3) RGB; got " + std::to_string(a.ndim()) +
+                          " dimension(s)");
+}
+
 pybind11::object from_colour(const ColourImage& colour) {
   if (colour.channel[0].size() == 0) return pybind11::none();
   pybind11::array_t<float> out({colour.rows(), colour.cols(), Eigen::Index(3)});

@@ -18,6 +18,9 @@ using BoolArray = pybind11::array_t<bool, pybind11::array::c_style | pybind11::a
 ImageF to_image(const FloatArray& array, const char* what);
 /// An (H, W, 3) array as a colour image.
 ColourImage to_colour(const FloatArray& array, const char* what);
+/// Refuses an image that is neither (H, W) intensity nor (H, W, 3) RGB by its dimensions, before
+/// the caller reads it as one or the other.
+void require_grey_or_colour(const FloatArray& array);
 std::optional<Mask> to_mask(const std::optional<BoolArray>& array);
 /// The mask, or every pixel of a rows x cols image when there is none.
 Mask mask_or_all(const std::optional<BoolArray>& array, Eigen::Index rows, Eigen::Index cols);

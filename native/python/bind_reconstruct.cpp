@@ -277,9 +277,7 @@ void bind_reconstruct(py::module_& m) {
         }
         std::optional<Eigen::Vector3d> light_vector;
         if (light) light_vector = to_vector3(*light, "light");
-        if (image_array.ndim() != 2 && image_array.ndim() != 3)
-          throw InvalidArgument("shadecut: the image must be (H, W) intensity or (H, W, 3) RGB; got " +
-                                std::to_string(image_array.ndim()) + " dimension(s)");
+        require_grey_or_colour(image_array);
         if (image_array.ndim() == 3) {
           const ColourImage colour = to_colour(image_array, "image");
           py::gil_scoped_release release;

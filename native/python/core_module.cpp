@@ -10,6 +10,7 @@
 #include <shadecut/support/downsample.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/estimate/estimate_light.hpp>
+#include <shadecut/estimate/estimate_reflectance.hpp>
 #include <shadecut/integrate/height_field_mesh.hpp>
 #include <shadecut/integrate/integrate.hpp>
 #include <shadecut/support/light.hpp>
@@ -173,9 +174,7 @@ PYBIND11_MODULE(_core, m) {
       .def_readwrite("min_outline_contrast", &shadecut::CutOutOptions::min_outline_contrast);
 
   m.def("cut_out", [](const FloatArray& image, const shadecut::CutOutOptions& options) {
-    if (image.ndim() != 2 && image.ndim() != 3)
-      throw shadecut::InvalidArgument("shadecut: the image must be (H, W) intensity or (H, W, 3) RGB; got " +
-                                      std::to_string(image.ndim()) + " dimension(s)");
+    require_grey_or_colour(image);
     shadecut::CutOut cut;
     if (image.ndim() == 3) {
       const shadecut::ColourImage colour = to_colour(image, "image");
@@ -191,6 +190,25 @@ PYBIND11_MODULE(_core, m) {
     }
     return py::make_tuple(from_mask(cut.mask), cut.outcome, cut.outline_contrast, cut.background_noise, cut.border_share,
                           cut.message);
+  });
+
+  m.def("estimate_reflectance", [](const FloatArray& image, const std::optional<BoolArray>& mask,
+                                   const shadecut::ReconstructOptions& options, const std::optional<FloatArray>& shading) {
+    require_grey_or_colour(image);
+    std::optional<shadecut::ColourImage> colour;
+    if (image.ndim() == 3) colour = to_colour(image, "image");
+    const ImageF intensity = colour ? shadecut::luminance(*colour) : to_image(image, "image");
+    std::optional<ImageF> shading_image;
+    if (shading) shading_image = to_image(*shading, "shading");
+    const Mask pixels = mask_or_all(mask, intensity.rows(), intensity.cols());
+    shadecut::Reflectance reflectance;
+    {
+      py::gil_scoped_release release;
+      reflectance = shadecut::estimate_reflectance(intensity, colour ? &*colour : nullptr, pixels,
+                                                   shadecut::reflectance_params(options), {},
+                                                   shading_image ? &*shading_image : nullptr);
+    }
+    return py::make_tuple(from_image(reflectance.relative), reflectance.edge_pairs);
   });
 
   m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });
