@@ -114,6 +114,23 @@ def test_upwind_the_viscosity_baseline():
     assert errors["bumps"]["upwind"] < 0.25 * min(flat_plane_error(scenes["bumps"]), errors["bumps"]["paper's energy"])
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "measured: the sweeps sink where the image reaches the albedo (a pixel at I = albedo admits one slope "
+    "only): this sphere (101 pixels above albedo 0.99) comes back 69.7 deg off after upwind's 3 rounds and "
+    "77.6 after 100; with the shade capped just below 1 (1 - 1e-6) it settles in 3 rounds at 5.2 deg. "
+    "The viscosity pull's reference runs the same sweeps, so photographs with highlights spend most of the "
+    "default call there (DiLiGenT, 19 photographs: ball 5.3 of 6.7 s, reading 15.6 of 18.9 s). The cap "
+    "alone makes DiLiGenT worse with the pull (ball 5.33 -> 6.73 deg, reading with retinex 38.74 -> 45.15) "
+    "and the painted set better (15.39 -> 13.73): the pull needs a rule for highlights first"))
+def test_upwind_settles_where_the_image_reaches_the_albedo():
+    scene = synthetic.sphere((0.4, 0.3, 1.0), 96, radius_fraction=0.45)
+    assert (scene.image[scene.mask] > 0.99).sum() > 100
+    for rounds in (None, 100):  # the method's tuned rounds, and many more
+        result = shadecut.reconstruct(scene.image, scene.light, scene.mask, 0.99, method="upwind", iterations=rounds)
+        print(f"upwind, albedo 0.99, rounds {rounds or 'default'}: {scene.mean_error(result.normals):.2f} deg")
+        assert scene.mean_error(result.normals) < 10.0
+
+
 def test_mozart_every_method_side_by_side(mozart_path):
     mozart = synthetic.mozart(mozart_path, (1.0, 0.0, 1.0))
     errors = {m: error_of(mozart, m)[0] for m in shadecut.METHODS}
