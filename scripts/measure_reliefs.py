@@ -6,6 +6,8 @@ figure of shadecut.evaluation.relief_metrics. Photographs: python3-skimage's CC0
 and coins, sRGB decoded to linear, light estimated, every default.
 
 Run: PYTHONPATH=addon /usr/bin/python3 scripts/measure_reliefs.py [--gallery docs/relief_gallery.png]
+[--every-form-kept]; the latter measures the reliefs as they were before the damping and the paint lines
+(detail_size=-1, paint_line_width=0): the drift of the slopes then shows beside the true large forms.
 """
 
 from __future__ import annotations
@@ -69,16 +71,19 @@ def gallery(results: dict, path: str) -> None:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--gallery", help="also write the gallery figure to this PNG")
+    parser.add_argument("--every-form-kept", action="store_true",
+                        help="no damping and no paint lines (detail_size=-1, paint_line_width=0)")
     args = parser.parse_args()
+    options = {"detail_size": -1.0, "paint_line_width": 0} if args.every_form_kept else {}
     print("test reliefs (light given): family, correlation mean [min], range ratio median [max], "
           "large-form share mean (truth's)")
-    for name, figures in relief_test_figures().items():
+    for name, figures in relief_test_figures(**options).items():
         correlation = [f["correlation"] for f in figures]
         ratio = [f["range_ratio"] for f in figures]
         print(f"  {name:14s} {np.mean(correlation):.2f} [{min(correlation):.2f}]  {np.median(ratio):.2f} "
               f"[{max(ratio):.2f}]  {np.mean([f['low_frequency_share'] for f in figures]):.2f} "
               f"({np.mean([f['truth_low_frequency_share'] for f in figures]):.2f})")
-    results = photo_results()
+    results = photo_results(**options)
     print("photographs (light estimated): large-form share, depth range / width, detail size")
     for name, result in results.items():
         figures = relief_figures(result.depth)
