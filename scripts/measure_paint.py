@@ -77,13 +77,6 @@ def oracle(folder: Path) -> None:
         print(f"| {name} | {np.mean(errors):.2f} |", flush=True)
 
 
-def log_correlation(albedo_map: np.ndarray, paint: np.ndarray, scene) -> float:
-    """As test_paint.py measures it: on the lit pixels, where the paint can be seen."""
-    lit = scene.mask & (scene.image > 0.05)
-    truth = paint @ np.array(LUMINANCE)
-    return float(np.corrcoef(np.log(albedo_map[lit]), np.log(truth[lit]))[0, 1])
-
-
 def limits() -> None:
     cases = test_paint.painted_test_set()
     steps = {
@@ -99,7 +92,7 @@ def limits() -> None:
     }
     print("| a paint edge's shading step read from | log-correlation, mean | min |\n|---|---|---|")
     for name, albedo_map in steps.items():
-        correlations = [log_correlation(albedo_map(image, scene), paint, scene) for image, _, paint, scene in cases]
+        correlations = [test_paint.log_correlation(albedo_map(image, scene), paint, scene) for image, _, paint, scene in cases]
         print(f"| {name} | {np.mean(correlations):.3f} | {np.min(correlations):.3f} |", flush=True)
     errors = {"the paint estimated (retinex)": [], "the true paint divided out": [], "unpainted": []}
     for image, uniform, paint, scene in cases:

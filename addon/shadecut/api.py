@@ -331,9 +331,7 @@ def estimate_reflectance(image, mask=None, shading=None, *, options: Optional[Re
         over the mask, 1 outside it. The image divided by it is the shading image of one albedo.
     """
     chosen = (options or ReconstructOptions()).replace(**overrides)
-    relative, _ = _core.estimate_reflectance(_real(image), _mask(mask), chosen,
-                                             None if shading is None else _real(shading))
-    return relative
+    return _core.estimate_reflectance(_real(image), _mask(mask), chosen, None if shading is None else _real(shading))
 
 
 def _image_files():

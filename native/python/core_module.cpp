@@ -201,14 +201,15 @@ PYBIND11_MODULE(_core, m) {
     std::optional<ImageF> shading_image;
     if (shading) shading_image = to_image(*shading, "shading");
     const Mask pixels = mask_or_all(mask, intensity.rows(), intensity.cols());
-    shadecut::Reflectance reflectance;
+    ImageF relative;
     {
       py::gil_scoped_release release;
-      reflectance = shadecut::estimate_reflectance(intensity, colour ? &*colour : nullptr, pixels,
-                                                   shadecut::reflectance_params(options), {},
-                                                   shading_image ? &*shading_image : nullptr);
+      relative = shadecut::estimate_reflectance(intensity, colour ? &*colour : nullptr, pixels,
+                                                shadecut::reflectance_params(options), {},
+                                                shading_image ? &*shading_image : nullptr)
+                     .relative;
     }
-    return py::make_tuple(from_image(reflectance.relative), reflectance.edge_pairs);
+    return from_image(relative);
   });
 
   m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });
