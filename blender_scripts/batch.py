@@ -58,6 +58,7 @@ for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # sha
 import OpenImageIO as oiio  # noqa: E402  (shadecut.dataset's writer too; in Debian's Blender and python3)
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
 from shadecut import imaging  # noqa: E402
+from shadecut.atomic_write import replacing  # noqa: E402
 from sigint import StopRequest  # noqa: E402
 from usage import Parser, UsageError  # noqa: E402
 
@@ -124,17 +125,18 @@ def output_paths(out_dir: Path, stem: str) -> dict[str, Path]:
             "mesh": out_dir / f"{stem}.ply"}
 
 
-def check_inputs_kept(images: list[Path], out_dir: Path) -> None:
-    """UsageError when an output would replace an input image (OUT_DIR = IN_DIR, x.png beside
-    x_normal.png): it would be overwritten before it is read, and the overwritten image reconstructed."""
-    inputs = {path.resolve(): path for path in images}
-    for image in images:
-        replaced = [inputs[resolved].name for resolved in (path.resolve() for path in
-                                                           output_paths(out_dir, image.stem).values())
-                    if resolved in inputs]
+def check_inputs_kept(inputs: list[Path], out_dir: Path) -> None:
+    """UsageError when an output of an image would replace a file of IN_DIR (``inputs``: its images
+    and the files skipped; OUT_DIR = IN_DIR, x.png beside x_normal.png or beside x.ply): an image would
+    be overwritten before it is read and the overwritten image reconstructed, any other file lost."""
+    kept = {path.resolve(): path for path in inputs}
+    for image in (path for path in inputs if path.suffix.lower() in IMAGE_EXTENSIONS):
+        replaced = [kept[resolved].name for resolved in (path.resolve() for path in
+                                                         output_paths(out_dir, image.stem).values())
+                    if resolved in kept]
         if replaced:
-            raise UsageError(f"the outputs of {image.name} would replace the input image{'s' * (len(replaced) > 1)} "
-                             f"{', '.join(replaced)} in {out_dir}: choose another OUT_DIR, or rename the input")
+            raise UsageError(f"the outputs of {image.name} would replace {', '.join(replaced)} in {out_dir}: "
+                             "choose another OUT_DIR, or rename the input")
 
 
 def save_normal_map(path: Path, normals: np.ndarray, mask: np.ndarray) -> None:
@@ -150,25 +152,15 @@ def save_normal_map(path: Path, normals: np.ndarray, mask: np.ndarray) -> None:
         raise OSError(f"cannot write {path}: {oiio.geterror()}")
 
 
-def _partial(path: Path) -> Path:
-    """A hidden temporary name beside ``path`` that keeps its extension (the writers go by it)."""
-    return path.with_name(f".{path.stem}.partial{path.suffix}")
-
-
 def write_outputs(paths: dict[str, Path], result, mesh_step: int) -> None:
-    """The three files of one reconstruction, each written under a temporary name and then renamed;
-    the mesh samples every ``mesh_step`` pixels."""
-    partial = {key: _partial(path) for key, path in paths.items()}
-    try:
+    """The three files of one reconstruction, each written under a temporary name of its own (two runs
+    into one folder never share one) and renamed over its name only when all three are complete; the
+    mesh samples every ``mesh_step`` pixels."""
+    with contextlib.ExitStack() as stack:
+        partial = {key: stack.enter_context(replacing(path)) for key, path in paths.items()}
         shadecut.save_depth(partial["height"], result.depth, result.mask)
         save_normal_map(partial["normal"], result.normals, result.mask)
         shadecut.save_mesh(partial["mesh"], result.depth, result.mask, mesh_step)
-        for key, path in paths.items():
-            os.replace(partial[key], path)
-    finally:
-        for path in partial.values():
-            with contextlib.suppress(OSError):
-                path.unlink()
 
 
 STOP = StopRequest(f"{PROG}: Ctrl+C: stopping (the image under way is abandoned)", always_deferred=True)
@@ -207,7 +199,7 @@ def reconstruct_file(path: Path, args: argparse.Namespace) -> tuple[object, str,
 
 def run(args: argparse.Namespace) -> int:
     images, skipped = list_inputs(args.in_dir)
-    check_inputs_kept(images, args.out_dir)
+    check_inputs_kept(images + skipped, args.out_dir)
     prepare_output(args.out_dir)
     scenes = list(shadecut.SceneKind.__members__) if args.scene == AUTO else [args.scene]
     lights = "/".join(shadecut.ReconstructOptions(scene=scene).light_method_used().name for scene in scenes)
