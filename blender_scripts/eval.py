@@ -19,7 +19,8 @@ strip per object). --diligent alone runs only that part; with --dataset DIR the 
 (and the paper's experiment, unless --no-paper) is evaluated too.
 
 Exit code: 0 when every method was evaluated on every sample; 1 when a method failed on a sample
-(recorded in the results); 2 for bad input (unknown method, missing or malformed dataset, a
+(recorded in the results) or a result could not be written (a full disk: named, and every file is
+either whole or its previous version, never cut short); 2 for bad input (unknown method, missing or malformed dataset, a
 --diligent folder missing or not in DiLiGenT's layout, unwritable output folder), with a message
 and no traceback.
 
@@ -31,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import hashlib
 import json
 import os
@@ -51,6 +53,7 @@ import shadecut  # noqa: E402
 import shapes  # noqa: E402
 from shadecut import evaluation  # noqa: E402
 from shadecut.blender import lambertian, lambertian_passes, lambertian_scene  # noqa: E402
+from shadecut.atomic_write import replacing, write_text  # noqa: E402
 from shadecut.blender.mesh import depth_mesh  # noqa: E402
 
 # The sources of the generated dataset: a change to any of them gives a new dataset.
@@ -123,7 +126,7 @@ def generated_dataset(args: argparse.Namespace) -> Path:
     code = dataset_generator.main(argv)
     if code != 0:
         raise evaluation.EvaluationError(f"make_dataset.py {' '.join(argv)} failed (exit code {code})")
-    complete.write_text(json.dumps(settings) + "\n")
+    write_text(complete, json.dumps(settings) + "\n")
     return folder
 
 
@@ -180,8 +183,11 @@ def render_surfaces(surfaces: dict, folder: Path, resolution: int = 240) -> dict
             obj = bpy.data.objects.new(mesh.name, mesh)
             scene.collection.objects.link(obj)
             paths[name] = folder / f"{name}.png"
-            scene.render.filepath = str(paths[name])
-            bpy.ops.render.render(write_still=True, scene=scene.name)
+            with replacing(paths[name]) as temporary:  # a full disk leaves no truncated render under the name
+                scene.render.filepath = str(temporary)
+                bpy.ops.render.render(write_still=True, scene=scene.name)
+                if not temporary.is_file():  # Blender reports a failed write on its console only
+                    raise OSError(errno.EIO, "Blender could not write the render", str(paths[name]))
             bpy.data.objects.remove(obj)
             bpy.data.meshes.remove(mesh)
         return paths
@@ -216,7 +222,8 @@ def save_surface_figure(path: Path, renders: dict, titles: dict) -> None:
         axis.set_axis_off()
     figure.suptitle("Mozart, light (1, 0, 1): surfaces reconstructed by each method", fontsize=10)
     figure.tight_layout()
-    figure.savefig(path, dpi=80)
+    with replacing(path) as temporary:
+        figure.savefig(temporary, dpi=80)
 
 
 def paper_figures(figures: Path, result: evaluation.SampleResult) -> Path:
@@ -267,7 +274,19 @@ def main(argv: list[str]) -> int:
                 out.rmdir()
         print(f"eval.py: error: {error}", file=sys.stderr)
         return 2
+    try:
+        return evaluate_and_report(args, methods, dataset, imported, out, figures, log, start)
+    except OSError as error:  # a full disk, a folder removed: every file written is whole or the old one
+        name = f" {error.filename}" if error.filename else ""
+        print(f"eval.py: error: cannot write{name}: {error.strerror or error}; the files already written are "
+              "whole and those not yet replaced keep their previous contents", file=sys.stderr)
+        return 1
 
+
+def evaluate_and_report(args: argparse.Namespace, methods: tuple, dataset: Path | None, imported: dict, out: Path,
+                        figures: Path, log, start: float) -> int:
+    """Evaluates what the checked arguments ask and writes the report; the exit code (1: a method failed)."""
+    run_dataset = dataset is not None
     options = {} if args.fit_shading is None else {"fit_shading": args.fit_shading}
     shown = []
     if run_dataset:

@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import secrets
+import shutil
 from pathlib import Path
 from typing import Iterator
 
@@ -21,6 +23,33 @@ def temporary_name(path: str | os.PathLike) -> Path:
     (the image and mesh writers choose the format by it)."""
     path = Path(path)
     return path.with_name(f".{path.stem}.{os.getpid()}-{secrets.token_hex(4)}.partial{path.suffix}")
+
+
+def remove_leftovers(path: str | os.PathLike) -> None:
+    """Deletes the temporary files (or folders) beside ``path`` that a killed process left: those named
+    by :func:`temporary_name` for a process that no longer runs, and the one name every process used
+    before (``.<stem>.partial<suffix>``). A running process's temporary file is left alone."""
+    path = Path(path)
+    pattern = re.compile(re.escape(f".{path.stem}.") + r"(?:(\d+)-[0-9a-f]{8}\.)?partial" + re.escape(path.suffix))
+    with contextlib.suppress(OSError):
+        for candidate in path.parent.iterdir():
+            match = pattern.fullmatch(candidate.name)
+            if match and (match.group(1) is None or not _running(int(match.group(1)))):
+                if candidate.is_dir() and not candidate.is_symlink():
+                    shutil.rmtree(candidate, ignore_errors=True)
+                else:
+                    with contextlib.suppress(OSError):
+                        candidate.unlink()
+
+
+def _running(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process: it runs
+        return True
+    return True
 
 
 @contextlib.contextmanager

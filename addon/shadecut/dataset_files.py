@@ -11,7 +11,6 @@ from __future__ import annotations
 import csv
 import io
 import json
-import os
 import shutil
 from pathlib import Path
 from typing import Optional
@@ -20,6 +19,7 @@ import numpy as np
 import OpenImageIO as oiio
 
 from .api import light_direction, save_depth, save_image, save_normals
+from .atomic_write import remove_leftovers, temporary_name, write_text
 
 FORMAT = "shadecut-dataset"
 VERSION = 1
@@ -80,8 +80,9 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
     ``depth`` is camera-frame z in scene units; ``meta`` must hold ``pixel_size`` (scene units per
     pixel) so that readers convert it to pixel units. ``depth`` None = unknown: no depth.exr.
     ``albedo`` None = unknown (stored as null). ``light`` is stored normalized. An existing
-    folder of the same name is replaced. The files are written into ``.<name>.partial`` beside the
-    folder, which is then renamed: an interrupted call never leaves a folder named like the sample.
+    folder of the same name is replaced. The files are written into a hidden folder of this call's
+    own beside the folder (``.<name>.<pid>-<random>.partial``), which is then renamed: an interrupted
+    call never leaves a folder named like the sample.
     """
     folder = Path(folder)
     image = np.asarray(image, dtype=np.float32)
@@ -121,8 +122,8 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
     )
 
     folder.parent.mkdir(parents=True, exist_ok=True)
-    partial = folder.parent / f".{folder.name}.partial"
-    shutil.rmtree(partial, ignore_errors=True)  # left by an earlier run that was killed
+    remove_leftovers(folder)  # of an earlier run that was killed
+    partial = temporary_name(folder)  # this call's own: two runs writing one dataset never share it
     partial.mkdir()
     try:
         save_image(partial / "image.exr", image, mask)
@@ -137,8 +138,7 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
             save_image(partial / "albedo.exr", np.asarray(albedo_map, dtype=np.float32), mask)
         (partial / META).write_text(json.dumps(_json_ready(record), indent=2) + "\n")
         if folder.exists():
-            previous = folder.parent / f".{folder.name}.previous"
-            shutil.rmtree(previous, ignore_errors=True)
+            previous = temporary_name(folder)
             folder.rename(previous)
             partial.rename(folder)
             shutil.rmtree(previous)
@@ -147,13 +147,6 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
     except BaseException:
         shutil.rmtree(partial, ignore_errors=True)
         raise
-
-
-def _replace_text(path: Path, text: str) -> None:
-    """Writes a file through a temporary one and a rename, so readers never see half of it."""
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    temporary.write_text(text)
-    os.replace(temporary, path)
 
 
 def _csv_row(entry: dict) -> dict:
@@ -181,7 +174,7 @@ def write_manifest(dataset_dir, entries: list[dict], info: Optional[dict] = None
         if missing:
             raise ValueError(f"shadecut: manifest entry {entry.get('id')!r} lacks {sorted(missing)}")
     document = {"format": FORMAT, "version": VERSION, "dataset": _json_ready(info or {}), "samples": entries}
-    _replace_text(dataset_dir / MANIFEST_JSON, json.dumps(document, indent=2) + "\n")
+    write_text(dataset_dir / MANIFEST_JSON, json.dumps(document, indent=2) + "\n")
 
     rows = [_csv_row(entry) for entry in entries]
     columns: list[str] = []
@@ -191,4 +184,4 @@ def write_manifest(dataset_dir, entries: list[dict], info: Optional[dict] = None
     writer = csv.DictWriter(text, fieldnames=columns, lineterminator="\n")
     writer.writeheader()
     writer.writerows(rows)
-    _replace_text(dataset_dir / MANIFEST_CSV, text.getvalue())
+    write_text(dataset_dir / MANIFEST_CSV, text.getvalue())

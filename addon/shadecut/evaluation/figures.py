@@ -8,6 +8,7 @@ import textwrap
 import numpy as np
 
 from .. import angular_error_map, erode_mask
+from ..atomic_write import replacing
 from .metrics import ERODE_PIXELS
 
 
@@ -61,4 +62,5 @@ def save_strip(path: os.PathLike | str, title: str, truth, reconstructions: dict
         figure.colorbar(shown, cax=axes[1, -1], label="degrees")
     figure.suptitle(title, fontsize=10)
     figure.tight_layout()
-    figure.savefig(path, dpi=72)
+    with replacing(path) as temporary:  # a full disk leaves no truncated figure under the name
+        figure.savefig(temporary, dpi=72)

@@ -14,6 +14,10 @@ from .. import METHODS
 from .. import dataset as _dataset
 
 
+# prepare_output's test write: about what one figure takes.
+PROBE_BYTES = 1 << 16
+
+
 class EvaluationError(Exception):
     """Input the user can fix (dataset, method names, output folder); the message says what."""
 
@@ -37,9 +41,12 @@ def prepare_output(folder: os.PathLike | str) -> Path:
     folder = Path(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        # A real write: permissions, read-only mounts and full disks all show up here, before any work.
-        with tempfile.TemporaryFile(dir=folder):
-            pass
+        # Real bytes written to the disk: permissions, read-only mounts and full disks all show up here,
+        # before any work (an empty file is created even on a full disk).
+        with tempfile.TemporaryFile(dir=folder) as probe:
+            probe.write(bytes(PROBE_BYTES))
+            probe.flush()
+            os.fsync(probe.fileno())
     except OSError as error:
         raise EvaluationError(f"cannot write to the output folder {folder}: {error.strerror or error}") from None
     return folder

@@ -16,6 +16,7 @@ import numpy as np
 
 from .. import ReconstructOptions, diligent
 from .. import dataset as _dataset
+from ..atomic_write import write_text
 from .figures import save_strip
 from .inputs import EvaluationError, read_manifest
 from .metrics import ERODE_PIXELS, normal_errors
@@ -79,7 +80,7 @@ def import_objects(objects: Sequence[Path], out_dir: os.PathLike | str,
                 diligent.import_diligent(source, target)
             except (OSError, ValueError) as error:
                 raise EvaluationError(str(error).removeprefix("shadecut: ")) from None
-            marker.write_text(f"{Path(source).resolve()}\n")
+            write_text(marker, f"{Path(source).resolve()}\n")
         folders[name] = target
     return folders
 

@@ -5,6 +5,7 @@ and results.json, results.csv and report.md.
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import os
@@ -17,6 +18,7 @@ from typing import TYPE_CHECKING, Optional, Sequence
 
 import numpy as np
 
+from ..atomic_write import write_text
 from .metrics import METRICS
 
 if TYPE_CHECKING:  # the runner imports this module: no import at run time
@@ -146,7 +148,8 @@ def provenance() -> str:
 
 
 def write_results(out_dir: os.PathLike | str, evaluation: Evaluation, figures: Sequence[str] = ()) -> dict:
-    """Writes results.json, results.csv (one row per sample and method) and report.md.
+    """Writes results.json, results.csv (one row per sample and method) and report.md, each whole or
+    not at all (a full disk leaves the previous file as it was and raises OSError).
 
     ``figures``: PNG paths relative to ``out_dir`` that report.md shows. Returns the paths written.
     """
@@ -155,13 +158,14 @@ def write_results(out_dir: os.PathLike | str, evaluation: Evaluation, figures: S
     document = {"settings": evaluation.settings, "samples": evaluation.samples, "records": evaluation.records,
                 "summary": summary, "paper": evaluation.paper, "real": evaluation.real}
     paths = {"json": out_dir / "results.json", "csv": out_dir / "results.csv", "report": out_dir / "report.md"}
-    paths["json"].write_text(json.dumps(_json_ready(document), indent=1, ensure_ascii=False) + "\n")
+    write_text(paths["json"], json.dumps(_json_ready(document), indent=1, ensure_ascii=False) + "\n")
 
-    with open(paths["csv"], "w", newline="") as stream:
-        writer = csv.DictWriter(stream, fieldnames=CSV_COLUMNS)
-        writer.writeheader()
-        for record in evaluation.all_records:
-            writer.writerow({k: ("" if v is None else v) for k, v in record.items()})
+    table = io.StringIO()
+    writer = csv.DictWriter(table, fieldnames=CSV_COLUMNS)
+    writer.writeheader()
+    for record in evaluation.all_records:
+        writer.writerow({k: ("" if v is None else v) for k, v in record.items()})
+    write_text(paths["csv"], table.getvalue())
 
     settings = evaluation.settings
     light = (f"estimated from each image (shadecut.estimate_light, {settings['light_method']})"
@@ -197,5 +201,5 @@ def write_results(out_dir: os.PathLike | str, evaluation: Evaluation, figures: S
                                         for r in failed] + [""]
     if figures:
         lines += ["## Figures", ""] + [f"![{Path(f).stem}]({Path(f).as_posix()})" for f in figures] + [""]
-    paths["report"].write_text("\n".join(lines))
+    write_text(paths["report"], "\n".join(lines))
     return paths
