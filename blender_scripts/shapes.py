@@ -16,6 +16,7 @@ import bpy
 import bmesh
 import numpy as np
 
+from shadecut.blender.capabilities import mesh_importer
 from shadecut.blender.mesh import depth_mesh
 from shadecut.synthetic import read_depth_text
 
@@ -146,13 +147,9 @@ def load_mesh_file(path: Path) -> list:
         if suffix == ".blend":
             with bpy.data.libraries.load(str(path), link=False) as (source, target):
                 target.objects = list(source.objects)
-        elif suffix == ".obj":
-            bpy.ops.wm.obj_import(filepath=str(path))
-        elif suffix == ".ply":
-            bpy.ops.import_mesh.ply(filepath=str(path))
         else:
-            bpy.ops.import_mesh.stl(filepath=str(path))
-    except (OSError, RuntimeError, ValueError) as error:
+            mesh_importer(suffix)(filepath=str(path))
+    except (OSError, RuntimeError, ValueError) as error:  # RuntimeError: also MissingCapability
         raise MeshFileError(f"cannot read mesh {path}: {error}") from None
     new = [ob for ob in bpy.data.objects if ob not in before]
     for ob in new:

@@ -13,6 +13,7 @@ from mathutils import Vector
 import shadecut
 from shadecut import dataset
 from shadecut.blender import lambertian, panels
+from shadecut.blender.capabilities import eevee_engine
 
 CENTRE = Vector((0.3, 0.2, -0.1))
 LIGHT = (1.0, 0.5, 1.0)
@@ -139,7 +140,7 @@ def user_scene():
     bpy.ops.object.light_add(type="POINT", location=(2, -2, 3))
     bpy.ops.object.camera_add(location=(0.3, -8, -0.1), rotation=(math.pi / 2, 0, 0))
     bpy.context.scene.camera = bpy.context.active_object
-    bpy.context.scene.render.engine = "BLENDER_EEVEE"
+    bpy.context.scene.render.engine = eevee_engine()
     bpy.context.scene.render.filepath = "//user_output"
     sphere.select_set(True)
     bpy.context.view_layer.objects.active = sphere

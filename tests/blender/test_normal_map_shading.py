@@ -13,6 +13,7 @@ from mathutils import Vector
 
 import shadecut
 from shadecut import synthetic
+from shadecut.blender.capabilities import set_cast_shadow
 
 LIGHT = (0.6, 0.5, 1.0)  # both tangent axes matter: a flipped red or green channel would show
 SIZE = 64  # the sphere image's pixels = the renders' pixels
@@ -54,7 +55,7 @@ def set_up_render(scene, path):
     scene.camera = camera
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
     sun.data.energy, sun.data.angle = math.pi, 0.0  # a white Lambertian surface facing it renders 1
-    sun.data.cycles.cast_shadow = False
+    set_cast_shadow(sun.data, False)
     sun.rotation_euler = Vector(LIGHT).to_track_quat("Z", "Y").to_euler()  # its +Z toward the light
     scene.collection.objects.link(sun)
 

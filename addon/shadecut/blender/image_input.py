@@ -17,10 +17,8 @@ import numpy as np
 from .. import _core, imaging
 from ..file_kinds import special_file_kind
 from ..image_header import declared_size
+from .capabilities import linear_colour_spaces
 from .wording import short_bytes
-
-# Colour spaces whose stored 8-bit values are linear already.
-LINEAR_SPACES = {"Linear", "Linear ACES", "Linear ACEScg", "Non-Color", "Raw", "XYZ"}
 
 # Bytes per pixel while an image file is read: Blender's own buffer (float RGBA for 16-bit and float
 # files, which the header check does not tell apart from 8-bit ones) and the float RGBA copy that
@@ -58,10 +56,7 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
         raise InputError(f"Image '{image.name}' has no pixels (is its file missing?): reload it or choose another")
     if width < 2 or height < 2:
         raise InputError(f"Image '{image.name}' is {width} x {height} pixels: at least 2 x 2 are needed")
-    space = image.colorspace_settings.name
-    srgb = not image.is_float and space not in LINEAR_SPACES
-    if srgb and space != "sRGB":
-        raise InputError(f"Image '{image.name}' is in colour space '{space}': set it to sRGB or Linear")
+    srgb = not image.is_float and _stored_as_srgb(image)
     factor = _shrink_factor(image.name, width, height, max_size)
     stored = np.empty(width * height * image.channels, dtype=np.float32)
     image.pixels.foreach_get(stored)
@@ -88,6 +83,17 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
         raise InputError(f"Image '{image.name}' has {bad} NaN or infinite pixel{'s' if bad > 1 else ''}: "
                          "shape from shading needs finite intensities")
     return np.concatenate(intensities), np.concatenate(masks), factor, np.concatenate(colours) if in_colour else None
+
+
+def _stored_as_srgb(image: bpy.types.Image) -> bool:
+    """Whether the 8-bit values of ``image`` are sRGB-encoded (True) or linear (False), by its colour
+    space; InputError for one that is neither, naming the spaces this Blender has that would do."""
+    space = image.colorspace_settings.name
+    linear = linear_colour_spaces()
+    if space in linear or space == "sRGB":
+        return space == "sRGB"
+    raise InputError(f"Image '{image.name}' is in colour space '{space}', which ShadeCut cannot decode: set its "
+                     f"Color Space to sRGB or to a linear one ({', '.join(sorted(linear))})")
 
 
 def picked_mask(mask_image: bpy.types.Image, source: bpy.types.Image, max_size: int) -> np.ndarray:

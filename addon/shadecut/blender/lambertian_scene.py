@@ -13,6 +13,8 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
+from .capabilities import set_cast_shadow
+
 # The camera of the fitted view looks along world +Y with world +Z up (Blender's "front" view), so
 # camera x = world X, camera y = world Z, camera z (toward the viewer) = world -Y.
 FRONT_VIEW = Matrix(((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0)))
@@ -184,7 +186,7 @@ def add_sun(scene, direction: Vector, shadows: bool, temporary: Temporary) -> No
     sun = temporary.new_object("ShadeCut sun", bpy.data.lights.new("ShadeCut sun", "SUN"))
     sun.data.energy = math.pi  # irradiance pi: a white Lambertian surface facing it has radiance 1
     sun.data.angle = 0.0
-    sun.data.cycles.cast_shadow = shadows
+    set_cast_shadow(sun.data, shadows)
     sun.rotation_mode = "QUATERNION"
     sun.rotation_quaternion = direction.to_track_quat("Z", "Y")
     scene.collection.objects.link(sun)
