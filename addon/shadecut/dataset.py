@@ -42,9 +42,10 @@ from typing import Optional
 import numpy as np
 
 from .api import light_direction, load_image
+from .file_kinds import read_text
 # Part of this module's interface, written where they are built.
 from .dataset_files import (CONVENTIONS, FORMAT, MANIFEST_CSV, MANIFEST_JSON, META, VERSION,  # noqa: F401
-                            read_image_channels, write_manifest, write_sample)
+                            pixel_size, read_image_channels, write_manifest, write_sample)
 from .diligent import import_diligent  # noqa: F401
 
 
@@ -96,6 +97,12 @@ def _depth_channel(pixels: np.ndarray, channel_names: list[str]) -> Optional[np.
     return None if name is None else pixels[..., channel_names.index(name)]
 
 
+def _present(path: Path) -> bool:
+    """Whether a sample holds the optional file ``path``: anything under its name counts, so that a
+    named pipe or a folder there is refused by the reader instead of taken for an absent file."""
+    return path.exists() or path.is_symlink()
+
+
 def check_sample(folder) -> Optional[str]:
     """None when ``folder`` is a complete, readable sample; otherwise what is wrong with it.
 
@@ -120,7 +127,7 @@ def check_sample(folder) -> Optional[str]:
         if name == META:
             continue
         path = folder / str(name)
-        if not path.is_file():
+        if not _present(path):
             return f"{path} is missing"
         try:
             pixels, channels = read_image_channels(path)
@@ -133,6 +140,11 @@ def check_sample(folder) -> Optional[str]:
             return f"{path} has no channel {missing[0]} (it has {channels})"
         if name == "depth.exr" and _depth_channel(pixels, channels) is None:
             return f"{path} has no channel {' or '.join(DEPTH_CHANNELS)} (it has {channels})"
+        if name == "depth.exr":
+            try:
+                pixel_size(meta, folder)
+            except ValueError as error:
+                return str(error).removeprefix("shadecut: ")
     return None
 
 
@@ -141,7 +153,7 @@ def load_sample_meta(folder) -> dict:
     meta_path = Path(folder) / META
     if not meta_path.is_file():
         raise OSError(f"shadecut: {folder} is not a ShadeCut sample (no {META})")
-    return json.loads(meta_path.read_text())
+    return json.loads(read_text(meta_path))
 
 
 def load_sample(folder) -> Sample:
@@ -153,13 +165,13 @@ def load_sample(folder) -> Sample:
     image = load_image(folder / "image.exr").image
     normals = _read_channels(folder / "normals.exr", ["R", "G", "B"])
     depth = None
-    if (folder / "depth.exr").is_file():
+    if _present(folder / "depth.exr"):
         pixels, channel_names = read_image_channels(folder / "depth.exr")
         z = _depth_channel(pixels, channel_names)
         if z is None:
             raise OSError(f"shadecut: {folder / 'depth.exr'} has no channel {' or '.join(DEPTH_CHANNELS)} "
                           f"(it has {channel_names})")
-        depth = np.where(mask, z / np.float32(meta["pixel_size"]), 0).astype(np.float32)
+        depth = np.where(mask, z / np.float32(pixel_size(meta, folder)), 0).astype(np.float32)
     shadow_path, albedo_path = folder / "shadow_mask.png", folder / "albedo.exr"
     return Sample(
         id=meta.get("id", folder.name),
@@ -171,8 +183,8 @@ def load_sample(folder) -> Sample:
         light=light_direction(meta["light"]),
         albedo=None if meta.get("albedo") is None else float(meta["albedo"]),
         meta=meta,
-        shadow_mask=_read_channels(shadow_path)[..., 0] > 0.5 if shadow_path.is_file() else None,
-        albedo_map=load_image(albedo_path).image if albedo_path.is_file() else None,
+        shadow_mask=_read_channels(shadow_path)[..., 0] > 0.5 if _present(shadow_path) else None,
+        albedo_map=load_image(albedo_path).image if _present(albedo_path) else None,
     )
 
 
@@ -181,7 +193,7 @@ def load_manifest(dataset_dir) -> list[dict]:
     path = Path(dataset_dir) / MANIFEST_JSON
     if not path.is_file():
         raise OSError(f"shadecut: {dataset_dir} holds no {MANIFEST_JSON}")
-    document = json.loads(path.read_text())  # json.JSONDecodeError (a ValueError) when not JSON
+    document = json.loads(read_text(path))  # json.JSONDecodeError (a ValueError) when not JSON
     if not isinstance(document, dict) or document.get("format") != FORMAT:
         raise ValueError(f"shadecut: {path} is malformed: not a ShadeCut dataset manifest (a JSON object with "
                          f'"format": "{FORMAT}")')
@@ -196,7 +208,7 @@ def load_dataset_info(dataset_dir) -> dict:
     path = Path(dataset_dir) / MANIFEST_JSON
     if not path.is_file():
         raise OSError(f"shadecut: {dataset_dir} holds no {MANIFEST_JSON}")
-    document = json.loads(path.read_text())
+    document = json.loads(read_text(path))
     info = document.get("dataset", {}) if isinstance(document, dict) else None
     if not isinstance(info, dict):
         raise ValueError(f'shadecut: {path} is malformed: "dataset" is not a JSON object')

@@ -11,6 +11,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import shutil
 from pathlib import Path
 from typing import Optional
@@ -20,6 +21,7 @@ import OpenImageIO as oiio
 
 from .api import light_direction, save_depth, save_image, save_normals
 from .atomic_write import remove_leftovers, temporary_name, write_text
+from .file_kinds import refuse_special_file
 
 FORMAT = "shadecut-dataset"
 VERSION = 1
@@ -36,6 +38,7 @@ META = "meta.json"
 def read_image_channels(path) -> tuple[np.ndarray, list[str]]:
     """(H, W, C) float32 pixels of any image file OpenImageIO reads, row 0 at the top, and the
     channel names (EXR stores them sorted, so "Y" of a Y + A file is not the first)."""
+    refuse_special_file(path)
     image = oiio.ImageInput.open(str(path))
     if image is None:
         raise OSError(f"shadecut: cannot read {path}: {oiio.geterror()}")
@@ -47,6 +50,18 @@ def read_image_channels(path) -> tuple[np.ndarray, list[str]]:
     if pixels is None:
         raise OSError(f"shadecut: cannot read the pixels of {path}")
     return np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, -1), list(spec.channelnames)
+
+
+def pixel_size(meta: dict, folder) -> float:
+    """The sample's pixel size (scene units per pixel), which converts depth.exr to pixel units;
+    ValueError when meta.json lacks it or holds no positive finite number (0 would make every depth
+    infinite). The readers and :func:`write_sample` hold meta.json to this one rule."""
+    value = meta.get("pixel_size") if isinstance(meta, dict) else None
+    number = isinstance(value, (int, float, np.number)) and not isinstance(value, (bool, np.bool_))
+    if not (number and math.isfinite(value) and value > 0):
+        raise ValueError(f"shadecut: {Path(folder) / META}: pixel_size {value!r} is not a positive number "
+                         "of scene units per pixel, which depth.exr needs")
+    return float(value)
 
 
 def _write_mask(path: Path, mask: np.ndarray) -> None:
@@ -99,8 +114,8 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
     for name, extra in (("shadow_mask", shadow_mask), ("albedo_map", albedo_map)):
         if extra is not None and np.shape(extra) != shape:
             raise ValueError(f"shadecut: {name} has shape {np.shape(extra)}, not {shape}")
-    if depth is not None and ("pixel_size" not in meta or not float(meta["pixel_size"]) > 0):
-        raise ValueError("shadecut: meta must hold a positive 'pixel_size' (scene units per pixel) for depth.exr")
+    if depth is not None:
+        pixel_size(meta, folder)
 
     files = ["image.exr", "image.png", "normals.exr", "depth.exr", "mask.png", META]
     if depth is None:

@@ -29,6 +29,7 @@ import numpy as np
 
 from . import dataset_files
 from .api import light_direction
+from .file_kinds import read_text
 
 REQUIRED = ("filenames.txt", "light_directions.txt", "light_intensities.txt", "mask.png", "Normal_gt.mat")
 CITATION = ("B. Shi, Z. Wu, Z. Mo, D. Duan, S.-K. Yeung, P. Tan, \"A Benchmark Dataset and Evaluation for "
@@ -63,6 +64,18 @@ def _table(path: Path, rows: int) -> np.ndarray:
     return values
 
 
+def _check_lights(path: Path, lights: np.ndarray, names: list[str]) -> None:
+    """ValueError naming the file, the line and its image for a light shape from shading cannot use
+    (at or below the horizon, or of length 0), before any sample is written."""
+    for line, (light, name) in enumerate(zip(lights, names), 1):
+        try:
+            light_direction(light)
+        except ValueError as error:
+            reason = str(error).removeprefix("shadecut: ")
+            raise ValueError(f"shadecut: {path} line {line} (the light of {name}: "
+                             f"{' '.join(f'{value:g}' for value in light)}): {reason}") from None
+
+
 def read_layout(source: Union[os.PathLike, str]) -> dict:
     """Checks an object folder's layout without reading its images or normals.
 
@@ -77,7 +90,7 @@ def read_layout(source: Union[os.PathLike, str]) -> dict:
     if missing:
         raise OSError(f"shadecut: {source} is not a DiLiGenT object folder: it lacks {', '.join(missing)} "
                       f"(expected {', '.join(REQUIRED)} and NNN.png images)")
-    names = (source / "filenames.txt").read_text().split()
+    names = read_text(source / "filenames.txt").split()
     if not names:
         raise ValueError(f"shadecut: {source / 'filenames.txt'} lists no image")
     first_line = {}
@@ -87,6 +100,7 @@ def read_layout(source: Union[os.PathLike, str]) -> dict:
                              f"{line}); each line pairs one image with the light on the same line of the light files")
         first_line[name] = line
     lights = _table(source / "light_directions.txt", len(names))
+    _check_lights(source / "light_directions.txt", lights, names)
     intensities = _table(source / "light_intensities.txt", len(names))
     if not (intensities > 0).all():
         raise ValueError(f"shadecut: {source / 'light_intensities.txt'} holds an intensity <= 0")

@@ -7,6 +7,7 @@ nothing. A method below it on a photograph has learned nothing from the shading 
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 from types import SimpleNamespace
@@ -17,6 +18,7 @@ import numpy as np
 from .. import ReconstructOptions, diligent
 from .. import dataset as _dataset
 from ..atomic_write import write_text
+from ..file_kinds import read_text
 from .figures import save_strip
 from .inputs import EvaluationError, read_manifest
 from .metrics import ERODE_PIXELS, normal_errors
@@ -67,22 +69,32 @@ def import_objects(objects: Sequence[Path], out_dir: os.PathLike | str,
     A marker written after the import names the source folder; a missing marker (or another source)
     means a new import. Returns object name -> dataset folder. EvaluationError for unreadable data.
     """
-    folders = {}
-    for source in objects:
-        name = diligent.object_name(source)
-        target = Path(out_dir) / name
-        marker = target / _COMPLETE
-        if marker.is_file() and marker.read_text().strip() == str(Path(source).resolve()):
-            log(f"reusing the imported DiLiGenT object {target}")
-        else:
-            log(f"importing the DiLiGenT object {source} into {target}")
-            try:
-                diligent.import_diligent(source, target)
-            except (OSError, ValueError) as error:
-                raise EvaluationError(str(error).removeprefix("shadecut: ")) from None
-            write_text(marker, f"{Path(source).resolve()}\n")
-        folders[name] = target
+    folders, new_out = {}, not Path(out_dir).exists()
+    try:
+        for source in objects:
+            folders[diligent.object_name(source)] = _imported(Path(source), Path(out_dir), log)
+    except EvaluationError:
+        if new_out:  # a refused import leaves no empty folder of its own (the object's is gone already)
+            with contextlib.suppress(OSError):
+                Path(out_dir).rmdir()
+        raise
     return folders
+
+
+def _imported(source: Path, out_dir: Path, log: Callable[[str], None]) -> Path:
+    """The dataset folder of one DiLiGenT object, imported into ``out_dir`` unless done before."""
+    target = out_dir / diligent.object_name(source)
+    marker = target / _COMPLETE
+    if marker.is_file() and read_text(marker).strip() == str(source.resolve()):
+        log(f"reusing the imported DiLiGenT object {target}")
+        return target
+    log(f"importing the DiLiGenT object {source} into {target}")
+    try:
+        diligent.import_diligent(source, target)
+    except (OSError, ValueError) as error:
+        raise EvaluationError(str(error).removeprefix("shadecut: ")) from None
+    write_text(marker, f"{source.resolve()}\n")
+    return target
 
 
 def flat_record(sample_id: str, shape: str, truth) -> dict:
