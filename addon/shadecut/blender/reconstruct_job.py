@@ -19,7 +19,7 @@ from .frames import FrameError, light_in_camera_frame
 from .image_input import InputError, image_pixels, image_to_reconstruct, picked_mask, show_mask
 from .preferences import addon_preferences
 from .mesh import MeshError
-from .result import TargetError, apply_maps, check_target, limited_depth_scale, result_object
+from .result import TargetError, apply_maps, check_collection, check_target, limited_depth_scale, result_object
 from .wording import short_number, with_article
 
 # Below this the image is black for the method: it needs shading to read slants from.
@@ -216,6 +216,10 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
     elif settings.scene == "object" and mask.all():
         mask = None  # no alpha: reconstruct() cuts the object out of a plain background
     if settings.target != "ACTIVE_MATERIAL":
+        try:
+            check_collection(context.collection)  # before the work, not after it
+        except MeshError as error:
+            raise InputError(f"Cannot add the result: {error}") from error
         _check_density(source.name, np.ones_like(image, dtype=bool) if mask is None else mask, _density(settings),
                        settings.max_vertices)
     options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,

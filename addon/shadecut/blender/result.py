@@ -172,8 +172,52 @@ def result_object(
     normals" / "<name> height", wired into the material (the displaced grid's height image is reused).
     ``albedo``: the de-lit colour (H, W, 3) or grey albedo (H, W), packed as "<name> albedo" and the
     material's Base Color in place of ``source_image``.
-    Raises MeshError (see :func:`depth_mesh`) before creating anything.
+    Raises MeshError (see :func:`depth_mesh`, :func:`check_collection`) before creating anything;
+    anything else raised on the way removes what was created before it goes on.
     """
+    check_collection(context.collection)
+    created = _Created()
+    try:
+        return _build_result(context, name, depth, normals, mask, created, source_image=source_image, width=width,
+                             depth_scale=depth_scale, density=density, displace=displace, normal_map=normal_map,
+                             height_map=height_map, albedo=albedo)
+    except BaseException:
+        created.remove()
+        raise
+
+
+def check_collection(collection: bpy.types.Collection) -> None:
+    """MeshError when ``collection`` (the active one, which takes the result) cannot take a new object:
+    one linked from a library is read-only, and Blender would refuse the link after everything else
+    was made."""
+    if collection.library is not None:
+        raise MeshError(f"the active collection '{collection.name}' is linked from the library "
+                        f"'{collection.library.filepath}' and cannot take a new object: make another "
+                        "collection active in the Outliner")
+
+
+class _Created:
+    """The datablocks a result made so far, removed together when it fails half-way."""
+
+    def __init__(self):
+        self.blocks: list = []
+
+    def add(self, block):
+        self.blocks.append(block)
+        return block
+
+    def remove(self) -> None:
+        kinds = {bpy.types.Object: bpy.data.objects, bpy.types.Mesh: bpy.data.meshes,
+                 bpy.types.Material: bpy.data.materials, bpy.types.Image: bpy.data.images}
+        for block in reversed(self.blocks):
+            try:
+                next(store for kind, store in kinds.items() if isinstance(block, kind)).remove(block)
+            except ReferenceError:  # removed with its user already
+                pass
+
+
+def _build_result(context, name, depth, normals, mask, created: _Created, *, source_image, width, depth_scale,
+                  density, displace, normal_map, height_map, albedo) -> bpy.types.Object:
     unit = width / depth.shape[1]
     height = None
     if displace or height_map:
@@ -181,22 +225,22 @@ def result_object(
         height = (values, zero, span * unit * depth_scale)
         if not np.isfinite(np.float32(height[2])):
             raise MeshError("the displacement strength would not be a finite number: lower the width or the depth scale")
-    mesh = depth_mesh(name, np.zeros_like(depth) if displace else depth, mask,
-                      size=width, depth_scale=depth_scale, step=density)
-    obj = bpy.data.objects.new(name, mesh)
+    mesh = created.add(depth_mesh(name, np.zeros_like(depth) if displace else depth, mask,
+                                  size=width, depth_scale=depth_scale, step=density))
+    obj = created.add(bpy.data.objects.new(name, mesh))
     name = obj.name  # "<image>.001" when an earlier result has the image's name
     mesh.name = name
     obj.location = context.scene.cursor.location
     if height is not None:
-        height = (height_image(f"{name} height", height[0]), *height[1:])
+        height = (created.add(height_image(f"{name} height", height[0])), *height[1:])
     if displace:
         _displace(obj, height)
-    normal_image = normal_map_image(f"{name} normals", normals, mask) if normal_map else None
+    normal_image = created.add(normal_map_image(f"{name} normals", normals, mask)) if normal_map else None
     if albedo is not None:
-        source_image = albedo_image(f"{name} albedo", albedo, mask)
+        source_image = created.add(albedo_image(f"{name} albedo", albedo, mask))
     if source_image is not None or normal_image is not None or height_map:
-        mesh.materials.append(_result_material(f"{name} shading", source_image, normal_image,
-                                               height if height_map else None))
+        mesh.materials.append(created.add(_result_material(f"{name} shading", source_image, normal_image,
+                                                           height if height_map else None)))
 
     context.collection.objects.link(obj)
     for other in context.view_layer.objects.selected:
