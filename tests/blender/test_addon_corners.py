@@ -1,11 +1,14 @@
-"""The add-on in a scene's odd states (issue 48): a library-linked collection active (finding 4)."""
+"""The add-on in a scene's odd states (issue 48): a library-linked collection active (finding 4),
+Flip in Edit Mode and on an object sharing a result's material (finding 10)."""
 
 import bpy
+import numpy as np
 import pytest
 
 from shadecut.blender import reconstruct_job
 from test_addon import scene_state
 from test_addon_errors import Reports, sphere_with_its_light
+from test_flip import heights, image_of, normal_map_pixels
 
 
 def linked_collection_active(tmp_path) -> bpy.types.Collection:
@@ -50,3 +53,47 @@ def test_a_collection_made_linked_during_the_work_leaves_nothing_behind(addon, s
     assert reconstruct_job.finish_job(reports, bpy.context, job) == {"CANCELLED"}
     assert reports.last[0] == {"ERROR"} and "linked from the library" in reports.last[1]
     assert scene_state() == before
+
+
+def frontal_result(tmp_path) -> bpy.types.Object:
+    settings = bpy.context.scene.shadecut
+    settings.image, settings.normal_map = image_of(tmp_path / "frontal.png", (0.0, 0.0, 1.0)), True
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    return bpy.context.active_object
+
+
+def test_flip_in_edit_mode_inverts_the_heights_it_reports(addon, tmp_path):
+    """In Edit Mode the heights were written to the mesh, which leaving Edit Mode overwrote: only the
+    normal map was inverted, while the report said both."""
+    obj = frontal_result(tmp_path)
+    before, colours = heights(obj), normal_map_pixels(obj)
+    bpy.ops.object.mode_set(mode="EDIT")
+    assert bpy.ops.shadecut.flip() == {"FINISHED"}
+    bpy.ops.object.mode_set(mode="OBJECT")
+    np.testing.assert_allclose(heights(obj)[:, 2], before[:, 2].max() - before[:, 2], atol=1e-5)
+    np.testing.assert_allclose(normal_map_pixels(obj)[:, :2], 1.0 - colours[:, :2], atol=1e-6)
+
+
+def test_flipping_an_object_that_shares_a_results_material_leaves_the_result_alone(addon, tmp_path):
+    """A plane given the result's material flipped the result's normal map (its heights not)."""
+    result = frontal_result(tmp_path)
+    material, colours = result.active_material, normal_map_pixels(result)
+    bpy.ops.mesh.primitive_plane_add()
+    plane = bpy.context.active_object
+    plane.data.materials.append(material)
+    assert bpy.ops.shadecut.flip() == {"FINISHED"}
+    assert result.active_material == material
+    np.testing.assert_array_equal(normal_map_pixels(result), colours)
+    assert plane.active_material != material
+    np.testing.assert_allclose(normal_map_pixels(plane)[:, :2], 1.0 - colours[:, :2], atol=1e-6)
+
+
+def test_the_flip_report_names_what_was_inverted(addon, tmp_path):
+    from shadecut.blender.flip_operator import flip_object
+
+    result = frontal_result(tmp_path)
+    bpy.ops.mesh.primitive_plane_add()
+    plane = bpy.context.active_object
+    plane.data.materials.append(result.active_material)
+    assert flip_object(plane) == ["normal map"]
+    assert flip_object(result) == ["heights", "normal map"]

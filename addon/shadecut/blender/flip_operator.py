@@ -13,12 +13,15 @@ depth map and its normals (depth z -> -z, lowest point at 0 again; normals (nx, 
 
 The images are replaced by inverted copies rather than changed in place: image pixels are not part
 of Blender's undo, the images a material or modifier points to are, so Ctrl+Z gives the result back.
+A material with the maps that another object uses too is copied for the flipped object first, so
+that a plane sharing a result's material flips alone. In Edit Mode the edit mesh is changed.
 """
 
 from __future__ import annotations
 
 from typing import Optional
 
+import bmesh
 import bpy
 import numpy as np
 
@@ -76,24 +79,51 @@ def flippable(obj: Optional[bpy.types.Object]) -> bool:
     return any(NORMAL_TEXTURE in nodes or HEIGHT_TEXTURE in nodes for nodes in _material_nodes(obj))
 
 
-def flip_object(obj: bpy.types.Object) -> None:
-    """Inverts the result ``obj`` shows (see the module's docstring)."""
+def _flip_heights(mesh: bpy.types.Mesh) -> None:
+    """z -> top - z on every vertex; in Edit Mode on the edit mesh, which Blender writes back over the
+    mesh's vertices when the mode is left (a change to those alone would be lost)."""
+    if mesh.is_editmode:
+        edit = bmesh.from_edit_mesh(mesh)
+        if edit.verts:
+            top = max(vertex.co.z for vertex in edit.verts)
+            for vertex in edit.verts:
+                vertex.co.z = top - vertex.co.z
+        bmesh.update_edit_mesh(mesh)
+        return
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    z = co[2::3]
+    if z.size:
+        co[2::3] = z.max() - z
+    mesh.vertices.foreach_set("co", co)
+    mesh.update()
+
+
+def _own_materials(obj: bpy.types.Object) -> None:
+    """Gives ``obj`` its own copy of each material with ShadeCut maps that something else uses too
+    (another object, a result sharing it): flipping ``obj`` must not turn another object's maps over."""
+    for slot in obj.material_slots:
+        material = slot.material
+        if material is not None and material.use_nodes and material.users > 1 and any(
+                name in material.node_tree.nodes for name in (NORMAL_TEXTURE, HEIGHT_TEXTURE)):
+            slot.material = material.copy()
+
+
+def flip_object(obj: bpy.types.Object) -> list[str]:
+    """Inverts the result ``obj`` shows (see the module's docstring); what was inverted, in words."""
+    done = []
     modifier = _displace_modifier(obj)
     if modifier is None and obj.get(RESULT_PROPERTY):
-        mesh = obj.data
-        co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-        mesh.vertices.foreach_get("co", co)
-        z = co[2::3]
-        if z.size:
-            co[2::3] = z.max() - z
-        mesh.vertices.foreach_set("co", co)
-        mesh.update()
+        _flip_heights(obj.data)
+        done.append("heights")
     if modifier is not None and modifier.texture is not None and modifier.texture.image is not None:
         modifier.texture.image = _inverted_image(modifier.texture.image, (0, 1, 2))
         modifier.mid_level = 1.0 - modifier.mid_level
+        done.append("heights")
+    _own_materials(obj)
     inverted: dict[str, bpy.types.Image] = {}  # one copy per image, shared as the original was
     for nodes in _material_nodes(obj):
-        for name, channels in ((NORMAL_TEXTURE, (0, 1)), (HEIGHT_TEXTURE, (0, 1, 2))):
+        for name, channels, what in ((NORMAL_TEXTURE, (0, 1), "normal map"), (HEIGHT_TEXTURE, (0, 1, 2), "height map")):
             texture = nodes.get(name)
             if texture is None or texture.image is None:
                 continue
@@ -101,9 +131,11 @@ def flip_object(obj: bpy.types.Object) -> None:
             if key not in inverted:
                 inverted[key] = _inverted_image(texture.image, channels)
             texture.image = inverted[key]
+            done.append(what)
         displacement = nodes.get(HEIGHT_NODE)
         if displacement is not None:
             displacement.inputs["Midlevel"].default_value = 1.0 - displacement.inputs["Midlevel"].default_value
+    return list(dict.fromkeys(done))
 
 
 class SHADECUT_OT_flip(bpy.types.Operator):
@@ -120,6 +152,11 @@ class SHADECUT_OT_flip(bpy.types.Operator):
 
     def execute(self, context):
         obj = context.active_object
-        flip_object(obj)
-        self.report({"INFO"}, f"'{obj.name}' flipped: its heights and normal map are inverted (Ctrl+Z undoes it)")
+        done = flip_object(obj)
+        if not done:
+            self.report({"WARNING"}, f"'{obj.name}' shows no ShadeCut heights or maps to flip: nothing changed")
+            return {"CANCELLED"}
+        inverted = " and ".join(done) if len(done) < 3 else ", ".join(done[:-1]) + " and " + done[-1]
+        self.report({"INFO"}, f"'{obj.name}' flipped: its {inverted} {'is' if len(done) == 1 else 'are'} inverted "
+                              "(Ctrl+Z undoes it)")
         return {"FINISHED"}
