@@ -1,13 +1,16 @@
 """The add-on in a scene's odd states (issue 48): a library-linked collection active (finding 4),
-Flip in Edit Mode and on an object sharing a result's material (finding 10)."""
+Flip in Edit Mode and on an object sharing a result's material (finding 10), an EXR whose NaN lies
+only where its alpha is transparent (finding 15)."""
 
 import bpy
 import numpy as np
 import pytest
 
+import shadecut
+
 from shadecut.blender import reconstruct_job
 from test_addon import scene_state
-from test_addon_errors import Reports, sphere_with_its_light
+from test_addon_errors import Reports, sphere_with_its_light, write_file
 from test_flip import heights, image_of, normal_map_pixels
 
 
@@ -97,3 +100,22 @@ def test_the_flip_report_names_what_was_inverted(addon, tmp_path):
     plane.data.materials.append(result.active_material)
     assert flip_object(plane) == ["normal map"]
     assert flip_object(result) == ["heights", "normal map"]
+
+
+def test_an_exr_with_nan_only_under_its_transparent_alpha_is_refused_as_the_library_refuses_it(addon, tmp_path):
+    """The library and the command line refuse it; the add-on reconstructed it."""
+    pixels = np.full((16, 16, 4), 0.5, np.float32)
+    pixels[..., 3] = 1.0
+    pixels[:4, :, 3] = 0.0  # the top rows transparent
+    pixels[1, 2, :3] = np.nan
+    path = write_file(tmp_path / "nan_outside.exr", pixels)
+    loaded = shadecut.load_image(path)
+    assert not loaded.mask[1, 2]
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        shadecut.reconstruct(loaded.image, mask=loaded.mask, light=(0.0, 0.0, 1.0))
+    bpy.context.scene.shadecut.light_source = "DIRECTION"
+    before = scene_state()
+    with pytest.raises(RuntimeError, match=r"'nan_outside.exr' has 1 NaN or infinite pixel \(1 of them where its "
+                                           r"alpha is transparent\)"):
+        bpy.ops.shadecut.reconstruct(filepath=path)
+    assert scene_state() == before

@@ -64,14 +64,15 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
     kept = height - height % factor  # the top rows: the bottom ones that fill no block are dropped
     band = factor * max(1, BAND_PIXELS // (width * factor))
     in_colour = image.channels >= 3
-    intensities, masks, colours, bad = [], [], [], 0
+    intensities, masks, colours, bad, bad_outside = [], [], [], 0, 0
     for top in range(0, kept, band):
         rows = min(band, kept - top)
         intensity, mask, colour = imaging.decode_rgba(_rgba(stored[height - top - rows:height - top][::-1]),
                                                       srgb_encoded=srgb)
         finite = np.isfinite(intensity)
-        bad += np.count_nonzero(~finite & mask)
-        intensity[~finite] = 0.0  # outside the mask: unused
+        bad += np.count_nonzero(~finite)
+        bad_outside += np.count_nonzero(~finite & ~mask)
+        intensity[~finite] = 0.0  # refused below: the band is shrunk first, so the count covers every band
         small, small_mask = imaging.shrink(intensity, mask, factor)
         intensities.append(small)
         masks.append(small_mask)
@@ -79,8 +80,9 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
             colour[~finite] = 0.0
             colours.append(np.dstack([imaging.shrink(np.ascontiguousarray(colour[..., k]), mask, factor)[0]
                                       for k in range(3)]))
-    if bad:
-        raise InputError(f"Image '{image.name}' has {bad} NaN or infinite pixel{'s' if bad > 1 else ''}: "
+    if bad:  # anywhere, even under a transparent alpha: the library and the command line refuse the same file
+        outside = f" ({bad_outside} of them where its alpha is transparent)" if bad_outside else ""
+        raise InputError(f"Image '{image.name}' has {bad} NaN or infinite pixel{'s' if bad > 1 else ''}{outside}: "
                          "shape from shading needs finite intensities")
     return np.concatenate(intensities), np.concatenate(masks), factor, np.concatenate(colours) if in_colour else None
 
