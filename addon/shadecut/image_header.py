@@ -1,4 +1,5 @@
-"""An image file's width and height read from its header, without decoding any pixel.
+"""An image file's width and height read from its header, without decoding any pixel; whether a
+JPEG or PNG is cut short; its EXIF orientation.
 
 For the Blender add-on, whose zip has no OpenImageIO: it must know how large an image is before
 Blender decodes it (a few hundred kilobytes of PNG can declare 16000 x 16000 pixels, gigabytes once
@@ -9,6 +10,7 @@ the caller then learns the size from the decoder, as before. No ``bpy`` here.
 
 from __future__ import annotations
 
+import mmap
 import os
 import struct
 from typing import BinaryIO, Optional
@@ -139,3 +141,56 @@ def _webp(start: bytes, file: BinaryIO) -> Optional[tuple[int, int]]:
 
 def _tga(start: bytes) -> Optional[tuple[int, int]]:
     return struct.unpack("<HH", start[12:16])
+
+
+def cut_short(path: str | os.PathLike) -> bool:
+    """True when ``path`` is a JPEG or PNG whose data stops before the format's end: a copy or download
+    cut short. Blender decodes such a file without a word (grey or missing rows); the library's
+    reader refuses it. False for other formats, an unreadable file, or a whole one."""
+    try:
+        with open(path, "rb") as file, mmap.mmap(file.fileno(), 0, access=mmap.ACCESS_READ) as data:
+            return _cut_short(data)
+    except (OSError, ValueError):  # empty (mmap refuses a length of 0), missing, unreadable: the decoder says
+        return False
+
+
+def cut_short_bytes(data: bytes) -> bool:
+    """:func:`cut_short` for a file's bytes held in memory (a packed image)."""
+    return _cut_short(data)
+
+
+def _cut_short(data) -> bool:
+    if data[:2] == b"\xff\xd8":
+        return _jpeg_cut_short(data)
+    if data[:8] == b"\x89PNG\r\n\x1a\n":
+        return _png_cut_short(data)
+    return False
+
+
+def _jpeg_cut_short(data) -> bool:
+    """The segments are walked to the first scan; from there the end-of-image marker must follow (the
+    scans' coded bytes never hold it; an EXIF thumbnail's own, inside its segment, is skipped)."""
+    offset = 2
+    while offset + 4 <= len(data):
+        if data[offset] != 0xFF:
+            return False  # not a layout this check knows: the decoder judges
+        marker = data[offset + 1]
+        if marker == 0xFF:  # a fill byte
+            offset += 1
+            continue
+        if marker == 0xDA:  # start of scan
+            return data.find(b"\xff\xd9", offset) < 0
+        (length,) = struct.unpack(">H", data[offset + 2:offset + 4])
+        offset += 2 + length
+    return True  # the headers themselves end early
+
+
+def _png_cut_short(data) -> bool:
+    """The chunks are walked to IEND; a chunk running past the end of the data means cut short."""
+    offset = 8
+    while offset + 8 <= len(data):
+        (length,) = struct.unpack(">I", data[offset:offset + 4])
+        if data[offset + 4:offset + 8] == b"IEND":
+            return False
+        offset += 12 + length  # length, type, data, CRC
+    return True

@@ -1,6 +1,6 @@
 """The add-on in a scene's odd states (issue 48): a library-linked collection active (finding 4),
 Flip in Edit Mode and on an object sharing a result's material (finding 10), an EXR whose NaN lies
-only where its alpha is transparent (finding 15)."""
+only where its alpha is transparent (finding 15), a JPEG cut in half (finding 12)."""
 
 import bpy
 import numpy as np
@@ -119,3 +119,27 @@ def test_an_exr_with_nan_only_under_its_transparent_alpha_is_refused_as_the_libr
                                            r"alpha is transparent\)"):
         bpy.ops.shadecut.reconstruct(filepath=path)
     assert scene_state() == before
+
+
+def test_a_jpeg_cut_in_half_is_refused_by_file_and_as_the_panels_image(addon, sphere_png, tmp_path):
+    """Blender decodes it (grey rows where the data stopped); the library and the command line refuse it."""
+    import OpenImageIO as oiio
+
+    truth, png = sphere_png
+    buffer = oiio.ImageBuf(str(png))
+    assert buffer.write(str(tmp_path / "whole.jpg")), buffer.geterror()
+    data = (tmp_path / "whole.jpg").read_bytes()
+    cut = tmp_path / "cut.jpg"
+    cut.write_bytes(data[: len(data) // 2])
+    with pytest.raises(OSError):
+        shadecut.load_image(cut)
+    settings = bpy.context.scene.shadecut
+    settings.light_source = "DIRECTION"
+    before = scene_state()
+    with pytest.raises(RuntimeError, match="'.*cut.jpg': the file is cut short"):
+        bpy.ops.shadecut.reconstruct(filepath=str(cut))
+    assert scene_state() == before
+    settings.image = bpy.data.images.load(str(cut))
+    assert tuple(settings.image.size) == (96, 96)  # Blender read it
+    with pytest.raises(RuntimeError, match="Image 'cut.jpg': the file is cut short"):
+        bpy.ops.shadecut.reconstruct()

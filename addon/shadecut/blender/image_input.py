@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import _core, imaging
 from ..file_kinds import special_file_kind
-from ..image_header import declared_size
+from ..image_header import cut_short, cut_short_bytes, declared_size
 from .capabilities import linear_colour_spaces
 from .wording import short_bytes
 
@@ -30,6 +30,10 @@ READ_BYTES_PER_PIXEL = 16 + 16
 BAND_PIXELS = 1 << 22
 # Image sources that are not one still picture, as the messages name them.
 MOVING_SOURCES = {"SEQUENCE": "an image sequence", "MOVIE": "a movie"}
+
+
+CUT_SHORT = ("the file is cut short (its data stops before the end of the image, as after an interrupted copy or "
+             "download): copy it again")
 
 
 class InputError(ValueError):
@@ -51,6 +55,8 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
                          "image; set its Source to Single Image, or choose another")
     if image.source == "FILE" and not image.has_data and image.packed_file is None:
         check_declared_size(f"Image '{image.name}'", bpy.path.abspath(image.filepath, library=image.library))
+    if image.source == "FILE":
+        _check_whole(image)
     width, height = image.size
     if width * height == 0:
         raise InputError(f"Image '{image.name}' has no pixels (is its file missing?): reload it or choose another")
@@ -85,6 +91,17 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
         raise InputError(f"Image '{image.name}' has {bad} NaN or infinite pixel{'s' if bad > 1 else ''}{outside}: "
                          "shape from shading needs finite intensities")
     return np.concatenate(intensities), np.concatenate(masks), factor, np.concatenate(colours) if in_colour else None
+
+
+def _check_whole(image: bpy.types.Image) -> None:
+    """InputError for an image whose JPEG or PNG file (or packed copy) is cut short: Blender shows what
+    it decoded of it, grey or missing rows that would be reconstructed as a surface."""
+    if image.packed_file is not None:
+        short = cut_short_bytes(image.packed_file.data)
+    else:
+        short = cut_short(bpy.path.abspath(image.filepath, library=image.library))
+    if short:
+        raise InputError(f"Image '{image.name}': {CUT_SHORT}")
 
 
 def _stored_as_srgb(image: bpy.types.Image) -> bool:
@@ -188,6 +205,8 @@ def load_file(filepath: str) -> tuple[bpy.types.Image, bool]:
     kind = special_file_kind(path)
     if kind is not None:  # Blender would wait on a pipe forever, and read a device without end
         raise InputError(f"Cannot read '{filepath}': it is {kind}, not an image file")
+    if cut_short(path):
+        raise InputError(f"Cannot read '{filepath}': {CUT_SHORT}")
     check_declared_size(f"Image file '{filepath}'", path)
     existing = {image.as_pointer() for image in bpy.data.images}
     try:
