@@ -15,6 +15,8 @@ import os
 import struct
 from typing import BinaryIO, Optional
 
+from .file_kinds import special_file_kind
+
 # The header fields sought lie within this many bytes of the start (JPEG: after the EXIF and ICC segments).
 SEARCH_LIMIT = 1 << 20
 _JPEG_FRAMES = {0xC0, 0xC1, 0xC2, 0xC3, 0xC5, 0xC6, 0xC7, 0xC9, 0xCA, 0xCB, 0xCD, 0xCE, 0xCF}
@@ -146,7 +148,10 @@ def _tga(start: bytes) -> Optional[tuple[int, int]]:
 def cut_short(path: str | os.PathLike) -> bool:
     """True when ``path`` is a JPEG or PNG whose data stops before the format's end: a copy or download
     cut short. Blender decodes such a file without a word (grey or missing rows); the library's
-    reader refuses it. False for other formats, an unreadable file, or a whole one."""
+    reader refuses it. False for other formats, an unreadable file, a pipe or device (never opened:
+    their readers refuse them by name), or a whole one."""
+    if special_file_kind(path) is not None:
+        return False
     try:
         with open(path, "rb") as file, mmap.mmap(file.fileno(), 0, access=mmap.ACCESS_READ) as data:
             return _cut_short(data)

@@ -43,3 +43,10 @@ def test_other_files_are_left_to_the_decoder(tmp_path, content):
     path.write_bytes(content)
     assert cut_short(path) == (content == b"\xff\xd8")
     assert not cut_short(tmp_path / "missing.jpg")
+
+
+def test_a_named_pipe_is_not_opened(tmp_path):
+    import os
+
+    os.mkfifo(tmp_path / "pipe.jpg")
+    assert not cut_short(tmp_path / "pipe.jpg")  # returns at once: a reader would wait for a writer
