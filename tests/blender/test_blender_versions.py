@@ -142,34 +142,44 @@ def test_a_space_neither_srgb_nor_linear_gets_advice_this_blender_can_follow():
     assert "sRGB" in str(refused.value)
 
 
-def test_linear_in_config_reads_encodings_and_transforms():
-    """A configuration of each kind: OpenColorIO 2 encodings, and transforms without them."""
-    config = """colorspaces:
+def test_linear_in_config_reads_what_the_configuration_declares():
+    """Each way a configuration declares a linear space: a role, the Linear family (any case), data,
+    an OpenColorIO 2 encoding; curves, logs and looks are not linear."""
+    config = """roles:
+  reference: XYZ E
+  scene_linear: Wide
+  data: Data
+colorspaces:
   - !<ColorSpace>
-    name: Reference
-    isdata: false
+    name: XYZ E
+    family: Chromaticity
   - !<ColorSpace>
     name: Wide
+    family: Linear
     to_reference: !<MatrixTransform> {matrix: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]}
   - !<ColorSpace>
+    name: Old linear
+    family: linear
+  - !<ColorSpace>
     name: Curve
+    family: Display
     to_reference: !<FileTransform> {src: srgb.spi1d, interpolation: linear}
   - !<ColorSpace>
     name: Log encoded
+    family: Linear
     encoding: log
   - !<ColorSpace>
     name: ACES
     encoding: scene-linear
-    to_scene_reference: !<BuiltinTransform> {style: "ACES-AP0_to_LINEAR-REC709_BFD"}
-  - !<ColorSpace>
-    name: Via wide
-    from_reference: !<ColorSpaceTransform> {src: Reference, dst: Wide}
   - !<ColorSpace>
     name: Data
+    isdata: true
+  - !<ColorSpace>
+    name: Raw
     isdata: true
 looks:
   - !<Look>
     name: Punchy
-    transform: !<FileTransform> {src: punch.spi1d}
+    family: Linear
 """
-    assert capabilities.linear_in_config(config) == {"Reference", "Wide", "ACES", "Via wide", "Data"}
+    assert capabilities.linear_in_config(config) == {"XYZ E", "Wide", "Old linear", "ACES", "Data", "Raw"}

@@ -87,33 +87,22 @@ def linear_colour_spaces() -> frozenset[str]:
     return frozenset(linear_in_config(colour_config_path().read_text(encoding="utf-8"))) & set(colour_space_names())
 
 
-# Transforms that are a 3 x 3 matrix (plus offset), and so keep values linear in light: matrices,
-# matrix files (.spimtx) and OpenColorIO's built-in primaries conversions ("UTILITY - ACES-AP0_to_...").
-_LINEAR_TRANSFORM = re.compile(r"!<MatrixTransform>|!<FileTransform>\s*\{[^}]*src:\s*[^,}]+\.spimtx"
-                               r"|!<BuiltinTransform>\s*\{[^}]*style:\s*\"?UTILITY - (?!\S*CURVE)[^,}]*_to_[^,}]*")
-_ANY_TRANSFORM = re.compile(r"!<(?!GroupTransform)\w+Transform>")
-_COLOUR_SPACE_TRANSFORM = re.compile(r"!<ColorSpaceTransform>\s*\{[^}]*src:\s*([^,}]+),\s*dst:\s*([^,}]+)")
-
-
 def linear_in_config(config: str) -> set[str]:
-    """The names of an OpenColorIO configuration's colour spaces that are linear: data spaces
-    (``isdata: true``), those whose ``encoding`` is scene-linear or data (configurations of
-    OpenColorIO 2, Blender 4+), and in configurations without encodings (Blender 3) those whose
-    transforms to and from the reference are all matrices, or conversions between linear spaces."""
-    linear, pending = set(), {}
+    """The names of an OpenColorIO configuration's colour spaces that are linear in light, or data
+    whose values are used as stored, as the configuration itself declares them: ``isdata: true``, an
+    ``encoding`` of scene-linear or data (OpenColorIO 2), or the family "Linear" that Blender's own
+    configurations give their linear spaces (3.x writes "linear"; 4.x and 5.x group the Color Space
+    menu by it), and the spaces named by the roles that are linear by definition (the reference, scene
+    linear, data, and OpenColorIO 2's interchange spaces ACES2065-1 and CIE XYZ D65)."""
+    header = config.split("\ncolorspaces:")[0]
+    roles = dict(re.findall(r"^\s{2}(reference|scene_linear|data|aces_interchange|cie_xyz_d65_interchange):"
+                            r"\s*(.+?)\s*$", header, re.MULTILINE))
+    linear = {name.strip("\"'") for name in roles.values()}
     for block in re.split(r"\n\s*- !<ColorSpace>", config)[1:]:
-        block = re.split(r"\n(?=\S)", block)[0]  # the next top-level section (looks, views) is not part of it
-        fields = dict(re.findall(r"^\s{4}(\w+):[ \t]*(.*)$", block, re.MULTILINE))
-        name = fields.get("name", "").strip().strip("\"'")
-        encoding = fields.get("encoding", "").strip()
-        if fields.get("isdata", "").strip() == "true" or encoding in ("scene-linear", "data"):
-            linear.add(name)
-        elif encoding:
-            continue
-        elif len(_ANY_TRANSFORM.findall(block)) == len(_LINEAR_TRANSFORM.findall(block)):
-            linear.add(name)
-        elif len(_ANY_TRANSFORM.findall(block)) == len(_COLOUR_SPACE_TRANSFORM.findall(block)):
-            pending[name] = {side.strip().strip("\"'") for pair in _COLOUR_SPACE_TRANSFORM.findall(block)
-                             for side in pair}
-    linear.update(name for name, others in pending.items() if others <= linear)
+        fields = {key: value.strip().strip("\"'") for key, value in
+                  re.findall(r"^\s{4}(\w+):[ \t]*(.*)$", block.split("\n  - !<")[0], re.MULTILINE)}
+        encoding = fields.get("encoding")  # when given, it decides
+        if (fields.get("isdata") == "true" or encoding in ("scene-linear", "data")
+                or (not encoding and fields.get("family", "").lower() == "linear")):
+            linear.add(fields.get("name", ""))
     return linear

@@ -193,9 +193,16 @@ def add_sun(scene, direction: Vector, shadows: bool, temporary: Temporary) -> No
 
 
 def add_black_world(scene, temporary: Temporary) -> None:
+    """A world that sends no light: its colour black, and where Blender renders worlds by their nodes
+    whatever use_nodes says (5.0+, whose new worlds have a grey Background node), every background's
+    strength 0."""
     world = temporary.add(bpy.data.worlds.new("ShadeCut black"))
     world.use_nodes = False
     world.color = (0.0, 0.0, 0.0)
+    if world.use_nodes and world.node_tree is not None:
+        for node in world.node_tree.nodes:
+            if node.type == "BACKGROUND":
+                node.inputs["Strength"].default_value = 0.0
     scene.world = world
 
 

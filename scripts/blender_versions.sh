@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Runs the whole Blender suite (tests/blender) in the Blenders of newer Debian releases: for each suite
+# named (default: trixie sid), a chroot made once by debootstrap from this machine's Debian archive and
+# kept in $SHADECUT_CHROOTS (default /var/cache/shadecut), outside the repository, so later runs reuse
+# it. The repository's files are copied in, the modules the suite needs (_core, _imageio, the add-on
+# zip) are built there with that release's compilers and Python, and the suite runs in its Blender.
+#   sudo bash scripts/blender_versions.sh [trixie] [sid]
+# Needs root (debootstrap, chroot, mounts). docs/building_and_testing.md gives the times measured.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+REPO=$PWD
+CHROOTS=${SHADECUT_CHROOTS:-/var/cache/shadecut}
+# The archive this machine installs from, so that no other source is needed.
+MIRROR=${SHADECUT_MIRROR:-$(cat /etc/apt/sources.list /etc/apt/sources.list.d/*.sources 2>/dev/null \
+  | grep -oE '^(URIs:|deb) +https?://[^ ]+/debian/?( |$)' | head -n1 | grep -oE 'https?://[^ ]+' || true)}
+# What the Blender suite needs inside the chroot: the build of the Python modules and the suite's imports.
+PACKAGES=(
+  blender xvfb xauth
+  cmake g++ make pkg-config python3-dev pybind11-dev libeigen3-dev libopenimageio-dev
+  python3-numpy python3-pytest python3-openimageio python3-matplotlib python3-scipy
+)
+
+# A chroot for one suite, made when missing: debootstrap into a .partial folder, then the packages,
+# then renamed, so an interrupted setup is redone rather than reused half made.
+ensure_chroot() {
+  local suite=$1 root=$CHROOTS/chroot-$1
+  if [[ -f $root/.shadecut-ready ]]; then
+    echo "blender_versions: reusing $root"
+    return
+  fi
+  [[ -n $MIRROR ]] || { echo "blender_versions: no Debian archive in /etc/apt; set SHADECUT_MIRROR" >&2; exit 1; }
+  command -v debootstrap >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y -qq debootstrap >/dev/null
+  mkdir -p "$CHROOTS"
+  rm -rf "$root.partial"
+  echo "blender_versions: creating $root from $MIRROR (debootstrap $suite)"
+  nice debootstrap --variant=minbase "$suite" "$root.partial" "$MIRROR" >"$CHROOTS/debootstrap-$suite.log" 2>&1 \
+    || { tail -n 20 "$CHROOTS/debootstrap-$suite.log" >&2; exit 1; }
+  # Check-Valid-Until off: sid's Release expires within days, and the archive may be a dated snapshot.
+  with_mounts "$root.partial" bash -c "apt-get -o Acquire::Check-Valid-Until=false update -qq && DEBIAN_FRONTEND=noninteractive \
+    nice apt-get install -y -qq --no-install-recommends ${PACKAGES[*]} >/dev/null"
+  touch "$root.partial/.shadecut-ready"
+  mv "$root.partial" "$root"
+}
+
+# Runs a command in the chroot with /proc, /dev and /sys mounted, unmounting them whatever happens.
+with_mounts() {
+  local root=$1 status=0
+  shift
+  mount -t proc proc "$root/proc"
+  mount --rbind /dev "$root/dev" && mount --make-rslave "$root/dev"
+  mount -t sysfs sysfs "$root/sys"
+  chroot "$root" env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root LANG=C.UTF-8 "$@" || status=$?
+  umount -R "$root/dev" "$root/sys" "$root/proc"
+  return $status
+}
+
+# The working tree's files (tracked, and new ones not ignored) copied afresh into the chroot, so that
+# nothing built there lands in this repository's addon/ folder.
+copy_repository() {
+  local target=$1/work/shadecut
+  rm -rf "$target"
+  mkdir -p "$target"
+  git -C "$REPO" ls-files -z --cached --others --exclude-standard \
+    | (cd "$REPO" && xargs -0 ls -d 2>/dev/null | tar -cf - -T -) | tar -xf - -C "$target"
+}
+
+run_suite() {
+  local suite=$1 root=$CHROOTS/chroot-$1 started=$SECONDS
+  ensure_chroot "$suite"
+  copy_repository "$root"
+  echo "== Blender tests in Debian $suite: $(chroot "$root" blender --version 2>/dev/null | head -n1)"
+  with_mounts "$root" bash -c 'set -e; cd /work/shadecut
+    cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DSHADECUT_BUILD_TESTS=OFF -DSHADECUT_BUILD_BENCHMARKS=OFF >/dev/null
+    nice cmake --build build -j2 --target _core _imageio addon_zip >build.log 2>&1 || { tail -n 40 build.log; exit 1; }
+    nice blender -b --factory-startup --python-exit-code 1 -P tests/blender/run_pytest.py -- tests/blender -q'
+  echo "blender_versions: Debian $suite took $((SECONDS - started)) s"
+}
+
+if [[ ${BASH_SOURCE[0]} == "$0" ]]; then  # run, not sourced for its functions
+  suites=("$@")
+  ((${#suites[@]})) || suites=(trixie sid)
+  for suite in "${suites[@]}"; do
+    run_suite "$suite"
+  done
+fi
