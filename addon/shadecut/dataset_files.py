@@ -22,6 +22,7 @@ import OpenImageIO as oiio
 from .api import light_direction, save_depth, save_image, save_normals
 from .atomic_write import remove_leftovers, temporary_name, write_text
 from .file_kinds import refuse_special_file
+from .image_header import oriented
 
 FORMAT = "shadecut-dataset"
 VERSION = 1
@@ -36,8 +37,9 @@ META = "meta.json"
 
 
 def read_image_channels(path) -> tuple[np.ndarray, list[str]]:
-    """(H, W, C) float32 pixels of any image file OpenImageIO reads, row 0 at the top, and the
-    channel names (EXR stores them sorted, so "Y" of a Y + A file is not the first)."""
+    """(H, W, C) float32 pixels of any image file OpenImageIO reads, row 0 at the top (upright as its
+    EXIF orientation says), and the channel names (EXR stores them sorted, so "Y" of a Y + A file is
+    not the first)."""
     refuse_special_file(path)
     image = oiio.ImageInput.open(str(path))
     if image is None:
@@ -49,7 +51,9 @@ def read_image_channels(path) -> tuple[np.ndarray, list[str]]:
         image.close()
     if pixels is None:
         raise OSError(f"shadecut: cannot read the pixels of {path}")
-    return np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, -1), list(spec.channelnames)
+    orientation = spec.get_int_attribute("Orientation", 1)  # EXIF's: turned upright, as viewers show it
+    pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, -1)
+    return oriented(pixels, orientation if 1 <= orientation <= 8 else 1), list(spec.channelnames)
 
 
 def pixel_size(meta: dict, folder) -> float:

@@ -50,3 +50,52 @@ def test_a_named_pipe_is_not_opened(tmp_path):
 
     os.mkfifo(tmp_path / "pipe.jpg")
     assert not cut_short(tmp_path / "pipe.jpg")  # returns at once: a reader would wait for a writer
+
+
+def stored_with(path, pixels, orientation):
+    """Writes ``pixels`` as stored rows with the file declaring EXIF ``orientation``."""
+    height, width, channels = pixels.shape
+    spec = oiio.ImageSpec(width, height, channels, oiio.UINT8)
+    spec.attribute("Orientation", orientation)
+    buffer = oiio.ImageBuf(spec)
+    buffer.set_pixels(oiio.ROI(), pixels)
+    assert buffer.write(str(path)), buffer.geterror()
+    return path
+
+
+def upright_by_pillow(path):
+    """The reference: Pillow's reading of the EXIF rule (OpenImageIO 2.4's ImageBufAlgo.reorient swaps
+    orientations 5 and 7 against it: 5 puts the stored top-left pixel at the bottom right, where the
+    rule's "row 0 is the left side, column 0 the top" puts it at the top left)."""
+    from PIL import Image, ImageOps
+
+    with Image.open(path) as image:
+        return np.asarray(ImageOps.exif_transpose(image), dtype=np.float32) / 255
+
+
+@pytest.mark.parametrize("orientation", range(1, 9))
+def test_exif_orientation_is_read_and_applied_as_the_rule_says(tmp_path, orientation):
+    """Issue 48, finding 9: a phone's portrait is stored sideways with orientation 6."""
+    from shadecut.dataset import read_image_channels
+    from shadecut.image_header import exif_orientation_bytes, oriented
+
+    stored = np.random.default_rng(orientation).random((5, 8, 3)).astype(np.float32)
+    for name in ("a.jpg", "a.tif"):
+        path = stored_with(tmp_path / name, stored, orientation)
+        assert exif_orientation_bytes(path.read_bytes()) == orientation
+    jpeg = tmp_path / "a.jpg"  # Pillow turns a JPEG by the rule (a TIFF it hands to libtiff, which differs)
+    reference = upright_by_pillow(jpeg)
+    raw = oiio.ImageInput.open(str(jpeg))
+    decoded = raw.read_image(oiio.FLOAT)
+    raw.close()
+    assert reference.shape == (oriented(decoded, orientation).shape)
+    np.testing.assert_allclose(oriented(decoded, orientation), reference, atol=2 / 255)  # two decoders
+    np.testing.assert_allclose(read_image_channels(jpeg)[0], reference, atol=2 / 255)
+
+
+def test_a_file_without_orientation_is_upright():
+    from shadecut.image_header import exif_orientation_bytes
+
+    assert exif_orientation_bytes(b"\xff\xd8\xff\xdb\x00\x04\x00\x00") == 1
+    assert exif_orientation_bytes(b"\x89PNG\r\n\x1a\n") == 1
+    assert exif_orientation_bytes(b"II*\x00\xff\xff\xff\x7f") == 1  # a directory past the end

@@ -16,7 +16,7 @@ import numpy as np
 
 from .. import _core, imaging
 from ..file_kinds import special_file_kind
-from ..image_header import cut_short, cut_short_bytes, declared_size
+from ..image_header import SEARCH_LIMIT, cut_short, cut_short_bytes, declared_size, exif_orientation_bytes, oriented
 from .capabilities import linear_colour_spaces
 from .wording import short_bytes
 
@@ -43,7 +43,8 @@ class InputError(ValueError):
 def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray, np.ndarray, int, np.ndarray | None]:
     """Linear intensity (h, w) and mask (h, w) of a Blender image, row 0 at the top, shrunk by the
     whole factor that Max size ``max_size`` asks for (imaging.shrink_factor; 0 = full size), that
-    factor, and the linear RGB (h, w, 3) of a colour image (None for a grey one), shrunk alike.
+    factor, and the linear RGB (h, w, 3) of a colour image (None for a grey one), shrunk alike; all
+    turned upright as the file's EXIF orientation says (:func:`image_orientation`).
 
     Float buffers hold scene-linear values; byte buffers hold the file's encoded values, decoded
     here according to the image's colour space. A file Blender has not decoded yet is first checked
@@ -90,7 +91,37 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
         outside = f" ({bad_outside} of them where its alpha is transparent)" if bad_outside else ""
         raise InputError(f"Image '{image.name}' has {bad} NaN or infinite pixel{'s' if bad > 1 else ''}{outside}: "
                          "shape from shading needs finite intensities")
-    return np.concatenate(intensities), np.concatenate(masks), factor, np.concatenate(colours) if in_colour else None
+    turn = image_orientation(image)  # the file's EXIF orientation, which Blender does not apply
+    return (oriented(np.concatenate(intensities), turn), oriented(np.concatenate(masks), turn), factor,
+            oriented(np.concatenate(colours), turn) if in_colour else None)
+
+
+def image_orientation(image: bpy.types.Image) -> int:
+    """The EXIF orientation (1 to 8, 1 = upright) still to apply to the pixels Blender decoded of
+    ``image``: a phone's portrait is stored sideways (6 or 8), every viewer shows it upright, and the
+    light the user gives is the one seen upright. Blender ignores a JPEG's orientation, so it is
+    applied here; it applies a TIFF's mirrors and half turn itself (1 to 4) but only the mirror of a
+    quarter turn (5 to 8): InputError for those, which no reading here can undo for certain."""
+    if image.source != "FILE":
+        return 1
+    if image.packed_file is not None:
+        start = image.packed_file.data[:SEARCH_LIMIT]
+    else:
+        path = bpy.path.abspath(image.filepath, library=image.library)
+        if special_file_kind(path) is not None:  # refused by its reader; never opened here
+            return 1
+        try:
+            with open(path, "rb") as file:
+                start = file.read(SEARCH_LIMIT)
+        except OSError:
+            return 1
+    orientation = exif_orientation_bytes(start)
+    if start[:2] == b"\xff\xd8":
+        return orientation
+    if orientation > 4:  # a TIFF turned by a quarter
+        raise InputError(f"Image '{image.name}' is stored turned by a quarter (its Orientation tag is {orientation}), "
+                         "which Blender reads only in part: save it upright in an image editor first")
+    return 1
 
 
 def _check_whole(image: bpy.types.Image) -> None:

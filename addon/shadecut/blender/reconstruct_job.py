@@ -16,7 +16,8 @@ import numpy as np
 from .. import api
 from .flip_operator import RESULT_PROPERTY, report_orientation
 from .frames import FrameError, light_in_camera_frame
-from .image_input import InputError, image_pixels, image_to_reconstruct, picked_mask, show_mask
+from .image_input import (InputError, image_orientation, image_pixels, image_to_reconstruct, picked_mask,
+                          show_mask)
 from .preferences import addon_preferences
 from .mesh import MeshError
 from .result import TargetError, apply_maps, check_collection, check_target, limited_depth_scale, result_object
@@ -45,6 +46,7 @@ class Job:
     created_image: bool = False  # the source image was loaded by this job: removed if it fails
     image_origin: str = ""  # where an image the panel did not name came from: "the Image Texture node ..."
     shrunk: str = ""  # how Max size shrank the image, for the finish report: ", worked at 512 x 384 (...)"
+    turned: bool = False  # the file is stored turned (EXIF orientation): its pixels were turned upright
     fraction: float = 0.0
     stage: str = "starting"
     cancel: bool = False
@@ -239,6 +241,7 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
         output=_output_settings(settings, context),
         created_image=created,
         shrunk=_shrunk(source, image.shape, factor, settings.max_resolution),
+        turned=image_orientation(source) != 1,
     )
 
 
@@ -305,6 +308,17 @@ def discard_job(job: Job) -> None:
         job.source_image, job.created_image = None, False
 
 
+def _shown_colour(job: Job) -> Optional[np.ndarray]:
+    """What the result's material shows in place of the source image: the de-lit colour when there is
+    one; for a file stored turned, else, its upright pixels (the stored file would lie turned on the
+    result's UVs); None: the source image itself."""
+    result = job.result
+    shown = result.albedo_map if result.albedo_colour is None else result.albedo_colour
+    if shown is None and job.turned:
+        shown = job.image if job.colour is None else job.colour
+    return shown
+
+
 def finish_job(operator, context, job: Job) -> set[str]:
     """Reports the outcome of a finished job and, on success, builds the result object (or, with
     Apply to = Active object, puts the maps into that object's material).
@@ -334,7 +348,7 @@ def finish_job(operator, context, job: Job) -> set[str]:
             depth_scale=limited_depth_scale(result.depth, result.mask, out["width"], out["depth_scale"],
                                             out["max_height"]),
             density=step, displace=out["displace"], normal_map=out["normal_map"], height_map=out["height_map"],
-            albedo=result.albedo_map if result.albedo_colour is None else result.albedo_colour,
+            albedo=_shown_colour(job),
         )
     except MeshError as error:
         discard_job(job)
