@@ -7,12 +7,15 @@ Mozart (data/mozart) is rendered by shadecut.render with light (1, 0, 1), opened
 reconstructed by the operator with the panel's defaults (the light estimated), as a user would.
 """
 
+import ctypes
+import ctypes.util
 import math
 import sys
 import tempfile
 from pathlib import Path
 
 import bpy
+import numpy as np
 from mathutils import Euler
 
 REPO = Path(__file__).resolve().parents[1]
@@ -72,6 +75,56 @@ def arrange_window(image):
     window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x - 600, y=y)  # no hover highlight
 
 
+class XImage(ctypes.Structure):
+    """The head of Xlib's XImage, up to the fields read here."""
+    _fields_ = [("width", ctypes.c_int), ("height", ctypes.c_int), ("xoffset", ctypes.c_int),
+                ("format", ctypes.c_int), ("data", ctypes.POINTER(ctypes.c_ubyte)), ("byte_order", ctypes.c_int),
+                ("bitmap_unit", ctypes.c_int), ("bitmap_bit_order", ctypes.c_int), ("bitmap_pad", ctypes.c_int),
+                ("depth", ctypes.c_int), ("bytes_per_line", ctypes.c_int), ("bits_per_pixel", ctypes.c_int),
+                ("red_mask", ctypes.c_ulong), ("green_mask", ctypes.c_ulong), ("blue_mask", ctypes.c_ulong)]
+
+
+def capture_window(window) -> np.ndarray:
+    """The pixels (rows top first, RGB bytes) of Blender's window as the X server shows it. Blender's
+    own screenshot reads back its OpenGL frame, which is black under Xvfb's software OpenGL; the X
+    server's copy of the screen (XGetImage of the root window, cut to the window) is what a user sees."""
+    x11 = ctypes.CDLL(ctypes.util.find_library("X11") or "libX11.so.6")
+    x11.XOpenDisplay.restype = ctypes.c_void_p
+    x11.XDefaultRootWindow.argtypes = [ctypes.c_void_p]
+    x11.XDefaultRootWindow.restype = ctypes.c_ulong
+    x11.XGetImage.argtypes = [ctypes.c_void_p, ctypes.c_ulong, ctypes.c_int, ctypes.c_int, ctypes.c_uint,
+                              ctypes.c_uint, ctypes.c_ulong, ctypes.c_int]
+    x11.XGetImage.restype = ctypes.POINTER(XImage)
+    x11.XDestroyImage.argtypes = [ctypes.POINTER(XImage)]
+    x11.XCloseDisplay.argtypes = [ctypes.c_void_p]
+    display = x11.XOpenDisplay(None)
+    if not display:
+        raise SystemExit("screenshot: no X display (run it under xvfb-run, as the docstring says)")
+    try:
+        all_planes, z_pixmap = 0xFFFFFFFF, 2
+        # xvfb-run starts no window manager: Blender's window sits at the screen's top-left corner.
+        image = x11.XGetImage(display, x11.XDefaultRootWindow(display), 0, 0, window.width, window.height,
+                              all_planes, z_pixmap)
+        if not image or image.contents.bits_per_pixel != 32:
+            raise SystemExit("screenshot: the X server gave no 32-bit image of the screen")
+        head = image.contents
+        rows = np.ctypeslib.as_array(head.data, shape=(head.height, head.bytes_per_line)).copy()
+        x11.XDestroyImage(image)
+    finally:
+        x11.XCloseDisplay(display)
+    pixels = rows[:, :head.width * 4].reshape(head.height, head.width, 4)
+    return pixels[..., [2, 1, 0]]  # Xvfb's 24-bit visual keeps pixels as B, G, R, unused
+
+
+def save_png(rgb: np.ndarray, path: Path) -> None:
+    height, width, _ = rgb.shape
+    rgba = np.dstack([rgb / 255.0, np.ones((height, width))])[::-1]  # Blender's row 0 is the bottom
+    image = bpy.data.images.new("ShadeCut screenshot", width, height, alpha=False)
+    image.pixels.foreach_set(rgba.astype(np.float32).ravel())
+    image.filepath_raw, image.file_format = str(path), "PNG"
+    image.save()
+
+
 def steps():
     image = build_scene()
     yield
@@ -79,8 +132,7 @@ def steps():
     for _ in range(5):  # a few redraws under software OpenGL
         yield
     OUTPUT.parent.mkdir(parents=True, exist_ok=True)
-    with bpy.context.temp_override(window=bpy.context.window_manager.windows[0]):
-        bpy.ops.screen.screenshot(filepath=str(OUTPUT))
+    save_png(capture_window(bpy.context.window_manager.windows[0]), OUTPUT)
     print(f"screenshot: {OUTPUT}")
 
 
