@@ -47,8 +47,12 @@ def read_image_channels(path) -> tuple[np.ndarray, list[str]]:
     try:
         spec = image.spec()
         pixels = image.read_image(oiio.FLOAT)
+        several = image.seek_subimage(1, 0)
     finally:
         image.close()
+    if several:  # which one is meant is unknown: the first would be read without a word
+        raise OSError(f"shadecut: cannot read {path}: it holds several images (the pages of a TIFF, the frames of a "
+                      "GIF); save the one to read as a file of its own")
     if pixels is None:
         raise OSError(f"shadecut: cannot read the pixels of {path}")
     orientation = spec.get_int_attribute("Orientation", 1)  # EXIF's: turned upright, as viewers show it

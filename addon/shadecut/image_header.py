@@ -10,10 +10,11 @@ the caller then learns the size from the decoder, as before. No ``bpy`` here.
 
 from __future__ import annotations
 
+import contextlib
 import mmap
 import os
 import struct
-from typing import BinaryIO, Optional
+from typing import BinaryIO, Iterator, Optional
 
 from .file_kinds import special_file_kind
 
@@ -145,18 +146,34 @@ def _tga(start: bytes) -> Optional[tuple[int, int]]:
     return struct.unpack("<HH", start[12:16])
 
 
+@contextlib.contextmanager
+def mapped(path: str | os.PathLike) -> Iterator[Optional[mmap.mmap]]:
+    """The bytes of the file at ``path``, mapped rather than read; None for a pipe or device (never
+    opened: its reader refuses it by name), an empty, missing or unreadable file (its decoder says)."""
+    if special_file_kind(path) is not None:
+        yield None
+        return
+    try:
+        file = open(path, "rb")
+    except OSError:
+        yield None
+        return
+    with file:
+        try:
+            data = mmap.mmap(file.fileno(), 0, access=mmap.ACCESS_READ)
+        except (OSError, ValueError):  # mmap refuses a length of 0
+            yield None
+            return
+        with data:
+            yield data
+
+
 def cut_short(path: str | os.PathLike) -> bool:
     """True when ``path`` is a JPEG or PNG whose data stops before the format's end: a copy or download
     cut short. Blender decodes such a file without a word (grey or missing rows); the library's
-    reader refuses it. False for other formats, an unreadable file, a pipe or device (never opened:
-    their readers refuse them by name), or a whole one."""
-    if special_file_kind(path) is not None:
-        return False
-    try:
-        with open(path, "rb") as file, mmap.mmap(file.fileno(), 0, access=mmap.ACCESS_READ) as data:
-            return _cut_short(data)
-    except (OSError, ValueError):  # empty (mmap refuses a length of 0), missing, unreadable: the decoder says
-        return False
+    reader refuses it. False for other formats, for what :func:`mapped` gives None, or a whole file."""
+    with mapped(path) as data:
+        return data is not None and _cut_short(data)
 
 
 def cut_short_bytes(data: bytes) -> bool:
@@ -170,6 +187,21 @@ def _cut_short(data) -> bool:
     if data[:8] == b"\x89PNG\r\n\x1a\n":
         return _png_cut_short(data)
     return False
+
+
+def tiff_pages(data) -> int:
+    """How many pages (image directories) a TIFF's bytes hold, counted up to 2: Blender reads the
+    first of a multi-page TIFF without a word. 1 for anything else or a damaged chain."""
+    order = {b"II*\x00": "<", b"MM\x00*": ">"}.get(bytes(data[:4]))
+    if order is None:
+        return 1
+    try:
+        (offset,) = struct.unpack(order + "I", data[4:8])
+        (count,) = struct.unpack(order + "H", data[offset:offset + 2])
+        (following,) = struct.unpack(order + "I", data[offset + 2 + 12 * count:offset + 6 + 12 * count])
+    except struct.error:  # a directory past the end: the decoder says what is wrong
+        return 1
+    return 2 if 0 < following < len(data) else 1
 
 
 def _jpeg_cut_short(data) -> bool:

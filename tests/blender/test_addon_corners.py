@@ -1,6 +1,6 @@
 """The add-on in a scene's odd states (issue 48): a library-linked collection active (finding 4),
 Flip in Edit Mode and on an object sharing a result's material (finding 10), an EXR whose NaN lies
-only where its alpha is transparent (finding 15), a JPEG cut in half (finding 12), a photograph stored sideways with its EXIF orientation (finding 9)."""
+only where its alpha is transparent (finding 15), a JPEG cut in half (finding 12), a photograph stored sideways with its EXIF orientation (finding 9), a multi-page TIFF (finding 14)."""
 
 import bpy
 import numpy as np
@@ -198,3 +198,35 @@ def test_a_tiff_turned_by_a_quarter_is_refused(addon, tmp_path):
     bpy.context.scene.shadecut.light_source = "DIRECTION"
     with pytest.raises(RuntimeError, match="'turned.tif' is stored turned by a quarter .* save it upright"):
         bpy.ops.shadecut.reconstruct(filepath=str(tmp_path / "turned.tif"))
+
+
+def test_a_tiff_of_several_pages_is_refused_by_file_and_as_the_panels_image(addon, tmp_path):
+    """Blender reads its first page without a word."""
+    import OpenImageIO as oiio
+
+    path = tmp_path / "pages.tif"
+    spec = oiio.ImageSpec(12, 8, 1, oiio.UINT8)
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), (spec, spec))
+    assert out.write_image(np.full((8, 12, 1), 100, np.uint8))
+    assert out.open(str(path), spec, "AppendSubimage")
+    assert out.write_image(np.full((8, 12, 1), 200, np.uint8))
+    out.close()
+    settings = bpy.context.scene.shadecut
+    settings.light_source = "DIRECTION"
+    with pytest.raises(RuntimeError, match="'.*pages.tif': the file is a TIFF of several pages"):
+        bpy.ops.shadecut.reconstruct(filepath=str(path))
+    settings.image = bpy.data.images.load(str(path))
+    with pytest.raises(RuntimeError, match="Image 'pages.tif': the file is a TIFF of several pages"):
+        bpy.ops.shadecut.reconstruct()
+
+
+def test_a_two_channel_tiff_without_alpha_is_grey_and_opaque_in_the_addon(addon, tmp_path):
+    """Its second channel is not taken for a mask (the library's reader, in C++, does so)."""
+    from shadecut.blender import image_input
+
+    pixels = np.zeros((8, 12, 2), np.float32)
+    pixels[..., 0], pixels[..., 1] = 0.6, np.linspace(0.0, 1.0, 12)[None, :]
+    image = bpy.data.images.load(write_file(tmp_path / "rg.tif", pixels))
+    intensity, mask, _, _ = image_input.image_pixels(image)
+    assert mask.all()

@@ -99,3 +99,26 @@ def test_a_file_without_orientation_is_upright():
     assert exif_orientation_bytes(b"\xff\xd8\xff\xdb\x00\x04\x00\x00") == 1
     assert exif_orientation_bytes(b"\x89PNG\r\n\x1a\n") == 1
     assert exif_orientation_bytes(b"II*\x00\xff\xff\xff\x7f") == 1  # a directory past the end
+
+
+def pages(path, count):
+    """A file of ``count`` grey pages or frames (50, 100, ...), written by Pillow."""
+    from PIL import Image
+
+    images = [Image.fromarray(np.full((4, 6), 50 * (index + 1), np.uint8)) for index in range(count)]
+    images[0].save(path, save_all=True, append_images=images[1:])
+    return path
+
+
+@pytest.mark.parametrize("name", ["pages.tif", "frames.gif"])
+def test_a_file_of_several_images_is_refused_not_read_as_its_first(tmp_path, name):
+    """Issue 48, finding 14: a multi-page TIFF or an animated GIF silently read its first page."""
+    from shadecut.dataset import read_image_channels
+    from shadecut.image_header import tiff_pages
+
+    path = pages(tmp_path / name, 2)
+    with pytest.raises(OSError, match="it holds several images"):
+        read_image_channels(path)
+    if name.endswith(".tif"):
+        assert tiff_pages(path.read_bytes()) == 2
+        assert tiff_pages(pages(tmp_path / "one.tif", 1).read_bytes()) == 1

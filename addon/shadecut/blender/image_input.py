@@ -16,7 +16,8 @@ import numpy as np
 
 from .. import _core, imaging
 from ..file_kinds import special_file_kind
-from ..image_header import SEARCH_LIMIT, cut_short, cut_short_bytes, declared_size, exif_orientation_bytes, oriented
+from ..image_header import (SEARCH_LIMIT, cut_short_bytes, declared_size, exif_orientation_bytes, mapped, oriented,
+                            tiff_pages)
 from .capabilities import linear_colour_spaces
 from .wording import short_bytes
 
@@ -107,14 +108,8 @@ def image_orientation(image: bpy.types.Image) -> int:
     if image.packed_file is not None:
         start = image.packed_file.data[:SEARCH_LIMIT]
     else:
-        path = bpy.path.abspath(image.filepath, library=image.library)
-        if special_file_kind(path) is not None:  # refused by its reader; never opened here
-            return 1
-        try:
-            with open(path, "rb") as file:
-                start = file.read(SEARCH_LIMIT)
-        except OSError:
-            return 1
+        with mapped(bpy.path.abspath(image.filepath, library=image.library)) as data:
+            start = b"" if data is None else data[:SEARCH_LIMIT]
     orientation = exif_orientation_bytes(start)
     if start[:2] == b"\xff\xd8":
         return orientation
@@ -125,14 +120,26 @@ def image_orientation(image: bpy.types.Image) -> int:
 
 
 def _check_whole(image: bpy.types.Image) -> None:
-    """InputError for an image whose JPEG or PNG file (or packed copy) is cut short: Blender shows what
-    it decoded of it, grey or missing rows that would be reconstructed as a surface."""
+    """InputError for an image whose file (or packed copy) is cut short (a JPEG, a PNG) or holds more
+    pages than the one Blender reads (a TIFF): Blender shows grey rows, or the first page, without
+    a word, and that would be reconstructed."""
     if image.packed_file is not None:
-        short = cut_short_bytes(image.packed_file.data)
+        problem = file_problem(image.packed_file.data)
     else:
-        short = cut_short(bpy.path.abspath(image.filepath, library=image.library))
-    if short:
-        raise InputError(f"Image '{image.name}': {CUT_SHORT}")
+        with mapped(bpy.path.abspath(image.filepath, library=image.library)) as data:
+            problem = None if data is None else file_problem(data)
+    if problem:
+        raise InputError(f"Image '{image.name}': {problem}")
+
+
+def file_problem(data) -> Optional[str]:
+    """What makes a file's bytes unfit though Blender decodes them, in words; None when nothing does."""
+    if cut_short_bytes(data):
+        return CUT_SHORT
+    if tiff_pages(data) > 1:
+        return ("the file is a TIFF of several pages, of which Blender reads only the first: save the page to "
+                "reconstruct as a file of its own")
+    return None
 
 
 def _stored_as_srgb(image: bpy.types.Image) -> bool:
@@ -236,8 +243,10 @@ def load_file(filepath: str) -> tuple[bpy.types.Image, bool]:
     kind = special_file_kind(path)
     if kind is not None:  # Blender would wait on a pipe forever, and read a device without end
         raise InputError(f"Cannot read '{filepath}': it is {kind}, not an image file")
-    if cut_short(path):
-        raise InputError(f"Cannot read '{filepath}': {CUT_SHORT}")
+    with mapped(path) as data:
+        problem = None if data is None else file_problem(data)
+    if problem:
+        raise InputError(f"Cannot read '{filepath}': {problem}")
     check_declared_size(f"Image file '{filepath}'", path)
     existing = {image.as_pointer() for image in bpy.data.images}
     try:
