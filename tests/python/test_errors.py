@@ -52,7 +52,7 @@ LIGHT = (1.0, 0.0, 1.0)
         (GOOD, LIGHT, {"shadow_threshold": float("nan")}, r"shadow_threshold must be in \[0, 1\)"),
         (GOOD, LIGHT, {"shadow_threshold": -1.0}, r"shadow_threshold must be in \[0, 1\)"),
         (GOOD, LIGHT, {"shadow_threshold": 1.0}, r"shadow_threshold must be in \[0, 1\)"),
-        (GOOD, LIGHT, {"shadow_threshold": float("inf")}, r"shadow_threshold must be in \[0, 1\) \(a fraction of the albedo\); got inf"),
+        (GOOD, LIGHT, {"shadow_threshold": float("inf")}, r"shadow_threshold must be in \[0, 1\); got inf$"),
         (GOOD, LIGHT, {"highlight_threshold": float("nan")}, "highlight_threshold must be finite"),
         (GOOD, LIGHT, {"highlight_threshold": float("inf")}, "highlight_threshold must be finite"),
         (GOOD, LIGHT, {"viscosity_weight": -1e300}, r"viscosity_weight must be finite and >= 0; got -1e\+300$"),
