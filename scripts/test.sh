@@ -2,13 +2,22 @@
 # The one test command: installs the dependencies, builds, and runs every test (C++, Python, and the add-on inside Blender).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Each stage says when it starts; the run ends with one line, whether every stage passed or which one
+# failed, and the time it took (a busy machine can take far longer than docs/building_and_testing.md's figures).
+started=$SECONDS
+stage="installing the dependencies"
+elapsed() { echo "$(( (SECONDS - started) / 60 )) min $(( (SECONDS - started) % 60 )) s"; }
+next() { stage=$1; echo "== $1 (at $(elapsed))"; }
+trap 'code=$?; if ((code == 0)); then echo "== test.sh: every stage passed in $(elapsed)";
+      else echo "== test.sh: FAILED in the stage \"$stage\" (exit code $code) after $(elapsed)"; fi' EXIT
 bash scripts/install_dependencies.sh
+next "Build (scripts/build.sh)"
 bash scripts/build.sh
-echo "== C++ tests (GoogleTest via ctest)"
+next "C++ tests (GoogleTest via ctest)"
 ctest --test-dir build --output-on-failure -j"$(nproc)"
-echo "== Python tests (pytest, system interpreter)"
+next "Python tests (pytest, system interpreter)"
 PYTHONPATH=addon /usr/bin/python3 -m pytest tests/python -q -p no:cacheprovider
-echo "== Blender tests (pytest inside headless Blender)"
+next "Blender tests (pytest inside headless Blender)"
 blender -b --factory-startup --python-exit-code 1 -P tests/blender/run_pytest.py -- tests/blender -q
-echo "== C++ tests and the CLI under AddressSanitizer and UBSan"
+next "C++ tests and the CLI under AddressSanitizer and UBSan"
 bash scripts/sanitize.sh
