@@ -24,6 +24,7 @@ for _path in (str(REPO / "addon"), str(Path(__file__).resolve().parent)):  # sha
 
 import shadecut  # noqa: E402  (after the path insert: the repository's package)
 from shadecut import dataset  # noqa: E402
+from shadecut.atomic_write import check_writable  # noqa: E402
 from shadecut.blender import lambertian  # noqa: E402
 from sigint import StopRequest  # noqa: E402
 from usage import Parser, UsageError  # noqa: E402
@@ -174,10 +175,7 @@ def plan(args: argparse.Namespace) -> list[dict]:
 
 def check_output(folder: Path) -> None:
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-        probe = folder / f".write_test.{os.getpid()}"
-        probe.write_text("")
-        probe.unlink()
+        check_writable(folder)  # real bytes: an empty probe fits on a full disk
     except OSError as error:
         raise UsageError(f"cannot write to the output folder {folder}: {error.strerror or error}") from None
 

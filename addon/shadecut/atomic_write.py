@@ -14,6 +14,7 @@ import os
 import re
 import secrets
 import shutil
+import tempfile
 from pathlib import Path
 from typing import Iterator
 
@@ -72,3 +73,20 @@ def write_text(path: str | os.PathLike, text: str) -> None:
         stream.write(text)
         stream.flush()
         os.fsync(stream.fileno())
+
+
+# check_writable's test write: about what one figure or sample file takes.
+PROBE_BYTES = 1 << 16
+
+
+def check_writable(folder: str | os.PathLike) -> Path:
+    """Creates ``folder`` (and its parents) and writes real bytes there, flushed to the disk, before any
+    work: permissions, read-only mounts and full disks raise OSError here (an empty file is created
+    even on a full disk). Returns the folder."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryFile(dir=folder) as probe:
+        probe.write(bytes(PROBE_BYTES))
+        probe.flush()
+        os.fsync(probe.fileno())
+    return folder

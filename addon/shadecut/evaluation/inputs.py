@@ -6,16 +6,12 @@ Also writes :mod:`shadecut.synthetic` scenes as a dataset, the quick one that ne
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import Optional, Sequence
 
 from .. import METHODS
 from .. import dataset as _dataset
-
-
-# prepare_output's test write: about what one figure takes.
-PROBE_BYTES = 1 << 16
+from ..atomic_write import check_writable
 
 
 class EvaluationError(Exception):
@@ -37,19 +33,11 @@ def check_methods(names: Optional[Sequence[str]]) -> tuple[str, ...]:
 
 
 def prepare_output(folder: os.PathLike | str) -> Path:
-    """Creates the output folder and checks that files can be written in it."""
-    folder = Path(folder)
+    """Creates the output folder and checks that files can be written in it (atomic_write.check_writable)."""
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-        # Real bytes written to the disk: permissions, read-only mounts and full disks all show up here,
-        # before any work (an empty file is created even on a full disk).
-        with tempfile.TemporaryFile(dir=folder) as probe:
-            probe.write(bytes(PROBE_BYTES))
-            probe.flush()
-            os.fsync(probe.fileno())
+        return check_writable(folder)
     except OSError as error:
         raise EvaluationError(f"cannot write to the output folder {folder}: {error.strerror or error}") from None
-    return folder
 
 
 def read_manifest(dataset_dir: os.PathLike | str) -> list[dict]:
