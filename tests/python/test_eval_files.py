@@ -4,9 +4,15 @@ real for one process by its file-size limit (RLIMIT_FSIZE): every write past the
 EFBIG, as a write past the free space fails with ENOSPC."""
 
 import os
+import resource
+import shutil
+import signal
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
+
+import pytest
 
 # Run in a child process: evaluates a small dataset into OUT (figures in OUT/figures), then, under a
 # file-size limit of LIMIT bytes (none when 0), writes the results and one strip again.
@@ -77,3 +83,35 @@ def test_a_killed_runs_sample_folder_is_removed_and_a_running_ones_kept(tmp_path
     dataset.write_sample(tmp_path / "s", image=scene.image, normals=scene.normals, depth=scene.depth,
                          mask=scene.mask, light=scene.light, albedo=scene.albedo, meta={"pixel_size": 1.0})
     assert sorted(path.name for path in tmp_path.iterdir()) == sorted(["s", alive.name])
+
+
+@pytest.mark.parametrize("limit, code, said", [
+    (8192, 2, "eval.py: error: cannot write to the output folder"),  # caught by the check before any work
+    (80_000, 1, "eval.py: error: cannot write"),  # the paper's strip (about 90 KB) fails part-way
+])
+def test_eval_py_on_a_full_disk_names_the_write_and_keeps_the_previous_results(tmp_path, limit, code, said):
+    """It ended in matplotlib's traceback, results.json cut to the limit."""
+    from shadecut import evaluation, synthetic
+
+    if shutil.which("blender") is None:
+        pytest.skip("Blender is not installed")
+    dataset = evaluation.write_synthetic_dataset(tmp_path / "dataset", {
+        "sphere_0": ("sphere", synthetic.sphere((0.5, 0.3, 1.0), size=24))})
+    out = tmp_path / "eval"
+    out.mkdir()
+    previous = "{" + '"previous": "results", ' * 4000 + '"end": 1}\n'
+    (out / "results.json").write_text(previous)
+
+    def full_disk():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, resource.RLIM_INFINITY))
+
+    eval_py = Path(__file__).resolve().parents[2] / "blender_scripts" / "eval.py"
+    run = subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "-P", str(eval_py), "--",
+                          "--dataset", str(dataset), "--methods", "lee_rosenfeld", "--out", str(out)],
+                         capture_output=True, text=True, timeout=600, preexec_fn=full_disk)
+    assert run.returncode == code, run.stdout[-2000:] + run.stderr[-2000:]
+    assert said in run.stderr and "File too large" in run.stderr
+    assert "Traceback" not in run.stdout + run.stderr
+    assert (out / "results.json").read_text() == previous
+    assert not [path for path in out.rglob(".*") if path.is_file()]  # no temporary file left
