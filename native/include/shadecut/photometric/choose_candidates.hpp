@@ -1,0 +1,64 @@
+// The graph cut wherever the photographs leave a choice: one normal per pixel out of a few candidates,
+// so that neighbours agree.
+#pragma once
+
+#include <shadecut/photometric/photometric_stereo.hpp>
+#include <shadecut/support/progress.hpp>
+#include <shadecut/support/types.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace shadecut {
+
+/// Up to N candidate normals per pixel.
+struct NormalCandidates {
+  /// N maps, each H x W: candidate k of every pixel (unit, camera frame); read where k < count.
+  std::vector<NormalMap> normals;
+  /// H x W, 0..N: how many candidates a pixel has. 0 = the pixel takes no part (outside the surface,
+  /// or left to another method); 1 = fixed, it anchors its neighbours.
+  CountImage count;
+  /// Empty, or N maps H x W: the cost (>= 0, finite) of choosing candidate k, on the scale of the
+  /// smoothness term (a chord: 0..2 per neighbour pair).
+  std::vector<ImageF> data_cost;
+};
+
+/// The candidates photometric_stereo leaves: one (its normal) where three or more photographs are
+/// usable, two (first_candidate, second_candidate) where two are, none elsewhere.
+NormalCandidates photometric_candidates(const PhotometricStereoResult& result);
+
+struct CandidateCutParams {
+  /// Weight of the pairwise term: smoothness |n_p - n_q| between 4-neighbours (the paper's V_pq,
+  /// a chord), against the data costs. > 0.
+  double smoothness = 1.0;
+  int max_cycles = 10;  ///< cycles of moves over the candidate indices, >= 1
+};
+
+struct CandidateCutResult {
+  NormalMap normals;   ///< H x W, the chosen candidate as given; (0, 0, 0) where count is 0
+  CountImage choice;   ///< H x W, the chosen candidate's index; -1 where count is 0
+  double initial_energy = 0.0;  ///< energy of the start: every pixel at its cheapest candidate
+  double energy = 0.0;          ///< energy of the result (never above initial_energy)
+  int cycles = 0;               ///< cycles run
+  int accepted_moves = 0;       ///< moves that lowered the energy
+};
+
+/// Minimizes E = sum_p D_p(k_p) + smoothness sum over 4-neighbours (p, q) with candidates of
+/// |n_p(k_p) - n_q(k_q)| over the choices k_p, by fusion moves (Lempitsky et al. 2010): move k lets
+/// every pixel that has a candidate k switch to it at once, a minimum cut on the pixel grid with the
+/// core's max-flow solver. The pairs of a move whose term is not submodular are approximated
+/// (Rother et al. 2005) and a move is kept only if the exact energy falls, so the energy never rises.
+/// Cycles stop when a cycle keeps no move or after max_cycles. With two candidates per pixel named
+/// consistently (photometric_candidates: `first` on the viewer's side of the lights' plane), a region
+/// whose whole choice is wrong switches in one move.
+///
+/// @param[in] candidates the candidates (shapes checked).
+/// @param[in] params     weights.
+/// @param[in] progress   told the fraction of the cycle budget done, as stage "candidate cut"; may
+///                       throw Cancelled.
+/// @throws InvalidArgument for mismatched shapes, a count outside 0..N, non-finite or negative costs,
+///         non-finite candidates, or params out of range.
+CandidateCutResult choose_candidates(const NormalCandidates& candidates, const CandidateCutParams& params = {},
+                                     const Progress& progress = {});
+
+}  // namespace shadecut

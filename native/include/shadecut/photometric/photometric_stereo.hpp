@@ -1,0 +1,96 @@
+// Calibrated photometric stereo: several photographs from one viewpoint, each under its own known
+// distant light, give the normal and the albedo of every pixel lit in three or more of them.
+#pragma once
+
+#include <shadecut/support/progress.hpp>
+#include <shadecut/support/types.hpp>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+namespace shadecut {
+
+/// K x 3 light directions, one row per photograph, toward the light, camera frame (any length > 0).
+using LightDirections = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+/// H x W counts, row-major.
+using CountImage = Eigen::Array<std::int32_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// Lights whose directions are closer than this (degrees) give the same equation to within any
+/// photograph's noise: the second of the two photographs adds nothing and is refused.
+constexpr double kSameLightDegrees = 0.1;
+
+struct PhotometricStereoParams {
+  /// A photograph is in shadow at a pixel where its intensity is below shadow_fraction times the
+  /// pixel's albedo, i.e. where the light grazes the surface by less than asin(shadow_fraction)
+  /// (5.7 degrees at 0.1): there noise, ambient light and bounces outweigh the Lambertian shading.
+  double shadow_fraction = 0.1;
+  /// With four or more usable photographs, when one of them differs from what the fit of the others
+  /// predicts by more than outlier_tolerance times the albedo, the fit drops the photograph that
+  /// disagrees (a highlight or a cast shadow), one at a time while three or more remain.
+  double outlier_tolerance = 0.05;
+  /// The albedo the two candidate normals of a pixel with exactly two usable photographs assume.
+  /// 0 = the mean albedo of the nearest pixels (4-neighbour steps inside the mask) where three or more
+  /// photographs are usable; where there are none, the smallest uniform albedo that is consistent
+  /// with all but one percent of the two-photograph pixels (kTwoLightAlbedoQuantile).
+  double albedo = 0.0;
+  int threads = 0;  ///< threads of the per-pixel fits; 0 = all cores
+};
+
+/// The share of two-photograph pixels whose two cones an estimated uniform albedo makes meet.
+constexpr double kTwoLightAlbedoQuantile = 0.99;
+
+struct PhotometricStereoResult {
+  /// H x W unit normals where three or more photographs are usable (the least-squares fit over them);
+  /// (0, 0, 0) elsewhere.
+  NormalMap normals;
+  /// H x W: the fitted albedo (three or more photographs), the albedo the two candidates assume (two),
+  /// 0 elsewhere. Same units as the images' intensity.
+  ImageF albedo;
+  /// H x W: RMS over the usable photographs of (intensity - albedo n . S), intensity units; 0 where
+  /// fewer than four photographs are usable (the fit is exact there).
+  ImageF residual;
+  /// H x W: the photographs used at each pixel, after shadows, clipped pixels and outliers were left
+  /// out; 0 outside the mask.
+  CountImage usable;
+  /// H x W: at pixels with exactly two usable photographs, the two unit normals n with
+  /// albedo n . S_i = I_i for both (the two cones' intersections, mirror images across the plane of
+  /// the two lights; `first` on the side of that plane toward the viewer, so it faces the viewer more
+  /// than `second` does, and the naming is the same at every pixel of the same pair). Where the
+  /// cones do not meet (the albedo is too low for the two intensities) both hold the nearest normal,
+  /// in the lights' plane. (0, 0, 0) elsewhere.
+  NormalMap first_candidate, second_candidate;
+  std::int64_t dark_pixels = 0;    ///< masked pixels with no usable photograph (dark in every one)
+  std::int64_t single_pixels = 0;  ///< masked pixels with exactly one usable photograph
+  std::int64_t pair_pixels = 0;    ///< masked pixels with exactly two
+};
+
+/// Per-pixel photometric stereo under distant lights, I_k = albedo max(0, n . S_k).
+///
+/// At every masked pixel, the photographs that are usable there (not clipped, not in shadow:
+/// PhotometricStereoParams::shadow_fraction, judged against the albedo of a first fit and refitted)
+/// give, if three or more, n and the albedo by least squares; with four or more the fit drops
+/// outliers (PhotometricStereoParams::outlier_tolerance). Two give two candidate normals, one or
+/// none nothing (usable says which).
+///
+/// @param[in] images  K >= 2 photographs, each H x W linear intensity on one common scale (divide
+///                    each by its light's intensity first), finite.
+/// @param[in] lights  K x 3, row k toward the light of images[k], camera frame (normalized here);
+///                    every light above the horizon (S_z > 0), no two the same (kSameLightDegrees).
+/// @param[in] mask    H x W, the pixels of the surface (at least one).
+/// @param[in] clipped empty, or K masks H x W: true where images[k] is clipped (saturated) or known
+///                    to be specular, never used there.
+/// @param[in] params  thresholds.
+/// @param[in] progress told the fraction of rows done, as stage "photometric stereo"; may throw
+///                    Cancelled.
+/// @throws InvalidArgument for fewer than two images, images of different sizes, a number of lights
+///         other than the number of images, a light at or below the horizon, two identical lights,
+///         a mask or clipped mask of another shape, non-finite pixels, or params out of range.
+PhotometricStereoResult photometric_stereo(const std::vector<ImageF>& images, const LightDirections& lights,
+                                           const Mask& mask, const std::vector<Mask>& clipped = {},
+                                           const PhotometricStereoParams& params = {},
+                                           const Progress& progress = {});
+
+}  // namespace shadecut

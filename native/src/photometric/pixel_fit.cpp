@@ -1,0 +1,153 @@
+#include "photometric/pixel_fit.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace shadecut::detail {
+namespace {
+
+// Three lights whose triple product is below this are too near one plane to fix a normal: the
+// pixel is then read as lit by its two brightest photographs.
+constexpr double kMinTripleProduct = 1e-3;
+// The shadow test is refitted this many times at most (it settles in one or two).
+constexpr int kShadowPasses = 4;
+
+}  // namespace
+
+PixelFitter::PixelFitter(const std::vector<Eigen::Vector3d>& lights, double shadow_fraction, double outlier_tolerance)
+    : lights_(lights),
+      shadow_fraction_(shadow_fraction),
+      outlier_tolerance_(outlier_tolerance),
+      intensity_(lights.size(), 0.0) {}
+
+bool PixelFitter::solve(const std::vector<int>& set, Eigen::Vector3d& scaled_normal) const {
+  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  for (const int k : set) {
+    const Eigen::Vector3d& light = lights_[std::size_t(k)];
+    normal_matrix.noalias() += light * light.transpose();
+    rhs += intensity_[std::size_t(k)] * light;
+  }
+  // det(L^T L) is the sum of the squared triple products of the set's lights (Cauchy-Binet).
+  if (!(normal_matrix.determinant() > kMinTripleProduct * kMinTripleProduct)) return false;
+  scaled_normal = normal_matrix.ldlt().solve(rhs);
+  return scaled_normal.allFinite();
+}
+
+double PixelFitter::rms(const std::vector<int>& set, const Eigen::Vector3d& scaled_normal) const {
+  double sum = 0.0;
+  for (const int k : set) {
+    const double r = intensity_[std::size_t(k)] - scaled_normal.dot(lights_[std::size_t(k)]);
+    sum += r * r;
+  }
+  return set.empty() ? 0.0 : std::sqrt(sum / double(set.size()));
+}
+
+void PixelFitter::select_lit(double threshold) {
+  used_.clear();
+  for (const int k : available_)
+    if (intensity_[std::size_t(k)] > 0.0 && intensity_[std::size_t(k)] >= threshold) used_.push_back(k);
+}
+
+// The photograph of used_ to leave out (its position in used_), -1 if no subset can be fitted. With
+// five or more the data say which: the subset that fits best. With four every subset of three fits
+// exactly, so the physics says: a photograph brighter than the other three predict is a highlight,
+// likeliest where its half vector meets the normal; a darker one a cast shadow, likeliest where its
+// light grazes the surface.
+int PixelFitter::outlier() {
+  int best = -1;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < used_.size(); ++i) {
+    trial_.assign(used_.begin(), used_.end());
+    trial_.erase(trial_.begin() + std::ptrdiff_t(i));
+    Eigen::Vector3d scaled;
+    if (!solve(trial_, scaled) || !(scaled.norm() > 0.0)) continue;
+    const double albedo = scaled.norm();
+    const Eigen::Vector3d normal = scaled / albedo;
+    const Eigen::Vector3d& light = lights_[std::size_t(used_[i])];
+    double cost;
+    if (used_.size() >= 5) {
+      cost = rms(trial_, scaled) / albedo;
+    } else if (intensity_[std::size_t(used_[i])] > scaled.dot(light)) {
+      cost = 1.0 - normal.dot((light + Eigen::Vector3d::UnitZ()).normalized());
+    } else {
+      cost = std::max(0.0, normal.dot(light));
+    }
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = int(i);
+    }
+  }
+  return best;
+}
+
+double PixelFitter::largest_deviation(const Eigen::Vector3d& scaled_normal) const {
+  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+  for (const int k : used_) normal_matrix.noalias() += lights_[std::size_t(k)] * lights_[std::size_t(k)].transpose();
+  const Eigen::Matrix3d inverse = normal_matrix.inverse();
+  double largest = 0.0;
+  for (const int k : used_) {
+    const Eigen::Vector3d& light = lights_[std::size_t(k)];
+    // The residual over one minus the leverage: the photograph against the fit of the others.
+    const double free = 1.0 - light.dot(inverse * light);
+    const double residual = intensity_[std::size_t(k)] - scaled_normal.dot(light);
+    if (free > 1e-9) largest = std::max(largest, std::abs(residual) / free);
+  }
+  return largest;
+}
+
+void PixelFitter::drop_outliers(Eigen::Vector3d& scaled_normal) {
+  while (used_.size() >= 4 && largest_deviation(scaled_normal) > outlier_tolerance_ * scaled_normal.norm()) {
+    const int drop = outlier();
+    if (drop < 0) return;
+    used_.erase(used_.begin() + drop);
+    if (!solve(used_, scaled_normal)) return;  // cannot happen: outlier() solved this subset
+  }
+}
+
+PixelFit PixelFitter::fit(const std::vector<ImageF>& images, const std::vector<Mask>& clipped, int r, int c) {
+  available_.clear();
+  double brightest = 0.0;
+  for (std::size_t k = 0; k < images.size(); ++k) {
+    intensity_[k] = double(images[k](r, c));
+    if (!clipped.empty() && clipped[k](r, c)) continue;
+    available_.push_back(int(k));
+    brightest = std::max(brightest, intensity_[k]);
+  }
+  PixelFit fit;
+  if (!(brightest > 0.0)) return fit;  // dark in every photograph (or clipped in all)
+  // The albedo is at least the brightest intensity: a first shadow test against it, then against
+  // the fitted albedo until the set settles.
+  select_lit(shadow_fraction_ * brightest);
+  Eigen::Vector3d scaled = Eigen::Vector3d::Zero();
+  bool solved = false;
+  for (int pass = 0; pass < kShadowPasses && used_.size() >= 3; ++pass) {
+    solved = solve(used_, scaled);
+    if (!solved) break;
+    const std::vector<int> before = used_;
+    select_lit(shadow_fraction_ * scaled.norm());
+    if (used_ == before) break;
+    solved = false;
+  }
+  if (used_.size() >= 3 && !solved) solved = solve(used_, scaled);
+  if (used_.size() >= 3 && !solved) {
+    // Lights in one plane: only the two brightest photographs count.
+    std::sort(used_.begin(), used_.end(), [&](int a, int b) { return intensity_[std::size_t(a)] > intensity_[std::size_t(b)]; });
+    used_.resize(2);
+    std::sort(used_.begin(), used_.end());
+  }
+  if (used_.size() >= 3) {
+    drop_outliers(scaled);
+    fit.scaled_normal = scaled;
+    fit.rms = rms(used_, scaled);
+  } else if (used_.size() == 2) {
+    fit.pair = {used_[0], used_[1], float(intensity_[std::size_t(used_[0])]), float(intensity_[std::size_t(used_[1])])};
+  }
+  fit.usable = int(used_.size());
+  return fit;
+}
+
+}  // namespace shadecut::detail

@@ -1,0 +1,56 @@
+// Internal to photometric_stereo: the fit of one pixel, and the two candidate normals of the pixels
+// where only two photographs are usable. Not part of the public API.
+#pragma once
+
+#include <shadecut/photometric/photometric_stereo.hpp>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+namespace shadecut::detail {
+
+/// The two photographs usable at a pixel, a < b, and their intensities; a = -1 where there are not two.
+struct UsablePair {
+  std::int32_t a = -1, b = -1;
+  float intensity_a = 0.0f, intensity_b = 0.0f;
+};
+
+struct PixelFit {
+  int usable = 0;                                       ///< photographs used
+  Eigen::Vector3d scaled_normal = Eigen::Vector3d::Zero();  ///< albedo * n (usable >= 3)
+  double rms = 0.0;                                     ///< RMS residual of the fit (usable >= 3)
+  UsablePair pair;                                      ///< usable == 2
+};
+
+/// Fits pixels one at a time, reusing its buffers; one per thread.
+class PixelFitter {
+ public:
+  /// @param[in] lights unit directions toward the lights, one per photograph.
+  PixelFitter(const std::vector<Eigen::Vector3d>& lights, double shadow_fraction, double outlier_tolerance);
+
+  /// The fit at pixel (r, c) of `images` (clipped: empty or one mask per photograph).
+  PixelFit fit(const std::vector<ImageF>& images, const std::vector<Mask>& clipped, int r, int c);
+
+ private:
+  bool solve(const std::vector<int>& set, Eigen::Vector3d& scaled_normal) const;
+  double rms(const std::vector<int>& set, const Eigen::Vector3d& scaled_normal) const;
+  void select_lit(double threshold);
+  double largest_deviation(const Eigen::Vector3d& scaled_normal) const;
+  void drop_outliers(Eigen::Vector3d& scaled_normal);
+  int outlier();
+
+  const std::vector<Eigen::Vector3d>& lights_;
+  double shadow_fraction_, outlier_tolerance_;
+  std::vector<double> intensity_;
+  std::vector<int> available_, used_, trial_;
+};
+
+/// Fills result.first_candidate, second_candidate and albedo at the pixels where pairs[p].a >= 0,
+/// with the albedo `albedo` (> 0) or, for 0, as PhotometricStereoParams::albedo describes.
+void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<Eigen::Vector3d>& lights, const Mask& mask,
+                   double albedo,
+                   PhotometricStereoResult& result);
+
+}  // namespace shadecut::detail
