@@ -230,3 +230,16 @@ def test_a_two_channel_tiff_without_alpha_is_grey_and_opaque_in_the_addon(addon,
     image = bpy.data.images.load(write_file(tmp_path / "rg.tif", pixels))
     intensity, mask, _, _ = image_input.image_pixels(image)
     assert mask.all()
+
+
+def test_a_mask_drawn_upright_fits_a_photograph_stored_sideways(addon, tmp_path):
+    """The mask is compared with the image as shown: a portrait stored sideways is as tall as its mask."""
+    from shadecut import synthetic
+    from shadecut.blender import image_input
+
+    truth = synthetic.sphere(light=(1.0, 0.0, 1.0), size=96)
+    upright, mask = truth.image[:, 12:84], truth.mask[:, 12:84]  # 72 wide, 96 tall
+    source = bpy.data.images.load(jpeg_stored_with(tmp_path / "portrait.jpg", np.where(mask, upright, 0.0), 6))
+    assert tuple(source.size) == (96, 72)  # as stored
+    drawn = bpy.data.images.load(write_file(tmp_path / "mask.png", np.where(mask, 255, 0).astype(np.uint8)[..., None]))
+    np.testing.assert_array_equal(image_input.picked_mask(drawn, source, 0), mask)

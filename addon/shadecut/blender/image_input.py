@@ -119,6 +119,12 @@ def image_orientation(image: bpy.types.Image) -> int:
     return 1
 
 
+def upright_size(image: bpy.types.Image) -> tuple[int, int]:
+    """(width, height) of ``image`` as shown upright: a file stored turned by a quarter swaps them."""
+    width, height = image.size
+    return (height, width) if image_orientation(image) > 4 else (width, height)
+
+
 def _check_whole(image: bpy.types.Image) -> None:
     """InputError for an image whose file (or packed copy) is cut short (a JPEG, a PNG) or holds more
     pages than the one Blender reads (a TIFF): Blender shows grey rows, or the first page, without
@@ -156,9 +162,10 @@ def _stored_as_srgb(image: bpy.types.Image) -> bool:
 def picked_mask(mask_image: bpy.types.Image, source: bpy.types.Image, max_size: int) -> np.ndarray:
     """The object's pixels (h, w) from the panel's Mask image at the working size of ``source``: its
     alpha where it has transparency, else its pixels brighter than half its brightest (white = object)."""
-    if tuple(mask_image.size) != tuple(source.size):
-        raise InputError(f"Mask '{mask_image.name}' is {mask_image.size[0]} x {mask_image.size[1]} pixels and image "
-                         f"'{source.name}' {source.size[0]} x {source.size[1]}: the mask must be as large as the image")
+    (mask_width, mask_height), (width, height) = upright_size(mask_image), upright_size(source)
+    if (mask_width, mask_height) != (width, height):
+        raise InputError(f"Mask '{mask_image.name}' is {mask_width} x {mask_height} pixels and image "
+                         f"'{source.name}' {width} x {height}: the mask must be as large as the image")
     intensity, alpha, _, _ = image_pixels(mask_image, max_size)
     mask = alpha if not alpha.all() else intensity > 0.5 * float(intensity.max())
     if not mask.any():
