@@ -25,7 +25,8 @@ a coin, bark, a texture: Relief, which keeps its carrier flat). An object photog
 background without alpha needs --scene object; --scene relief or object sets every image's subject.
 --max-size N shrinks a larger image by a whole factor until neither side exceeds N pixels, as the
 add-on's Max size does (0 = full size, the default here). Each file's three outputs are written
-under temporary names and then renamed, so a file named like an output is always complete.
+under temporary names of this run's own and then renamed, so a file named like an output is always
+complete, and two runs into one OUT_DIR never take each other's temporary files.
 
 One progress line per image (index/total, name, seconds, the subject and why, the light found,
 the mesh's density); a file that cannot be
@@ -34,8 +35,8 @@ image extension are listed as skipped.
 
 Exit code: 0 when every image was done; 1 when an image failed (each named, and listed again at the
 end); 2 for bad arguments (IN_DIR missing or not a folder, no image file in it, OUT_DIR not
-creatable, a negative --max-size, an output that would replace an input image, as OUT_DIR = IN_DIR
-does for x.png beside x_normal.png), with a message and no traceback: nothing is written. Ctrl+C (SIGINT) stops the run:
+creatable, a negative --max-size, an output that would replace a file of IN_DIR, as OUT_DIR = IN_DIR
+does for x.png beside x_normal.png or x.ply), with a message and no traceback: nothing is written. Ctrl+C (SIGINT) stops the run:
 the image under way is abandoned (nothing of it is written), the finished ones are kept, exit code 130.
 """
 
