@@ -4,7 +4,8 @@ Every writer of files a user keeps (batch.py's outputs, eval.py's results and fi
 samples and manifest) writes through :func:`replacing`: the data goes to a temporary file beside the
 target, named uniquely for this process and call, and is renamed over the target only once it is
 complete. A full disk, a crash or Ctrl+C leave the previous file as it was, and two runs writing
-into one folder never share a temporary file. No ``bpy`` here.
+into one folder never share a temporary file. :func:`check_writable` tries an output folder with
+real bytes before any work. No ``bpy`` here.
 """
 
 from __future__ import annotations
