@@ -28,7 +28,7 @@ ProgressCallback = Callable[[float, str], Optional[bool]]
 ReconstructOptions = _core.ReconstructOptions
 ReconstructOptions.__doc__ = """Every setting of :func:`reconstruct`, with its default.
 
-The defaults are held once, in C++ (``native/include/shadecut/pipeline/reconstruct.hpp``); print
+The defaults are held once, in C++ (the option table, ``native/src/pipeline/option_table.cpp``); print
 ``ReconstructOptions()`` to see them. ``ReconstructOptions(labels=24)`` starts from the defaults,
 ``options.replace(labels=24)`` from another set; an unknown name raises TypeError. Enum fields take
 the enum or its name: ``method="lee_rosenfeld"``. The meaning of each field: docs/python_api.md.
@@ -54,6 +54,14 @@ MAX_THREADS: int = _core.MAX_THREADS
 
 OPTION_NAMES: tuple = tuple(_core.OPTION_NAMES)
 """The names of :class:`ReconstructOptions`' fields, the keywords :func:`reconstruct` takes."""
+
+
+def option_fields() -> list:
+    """The option table: one dict per field of :class:`ReconstructOptions`, by stage, with its
+    ``name``, ``group``, ``kind`` (flag, whole, number, name), ``default`` (and ``default_text``),
+    ``choices``, ``range`` (in words, with ``low``, ``high``, ``low_open``, ``high_open``), one line
+    of ``help`` and the command line's other ``flags``."""
+    return _core.option_fields()
 
 METHODS: tuple = tuple(_core.METHODS)
 """Every reconstruction method's name, for ``reconstruct(..., method=...)``."""

@@ -136,13 +136,14 @@ def test_ctrl_c_stops_the_reconstruction_and_writes_nothing(tmp_path):
     process = subprocess.Popen([str(CLI), str(tmp_path / "sphere.png"), "--light", "1,0,1", "--out",
                                 str(tmp_path / "out")], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     try:
-        assert process.stderr.read(1) == b"\r"  # the first progress line: the reconstruction has started
+        first = process.stderr.readline()  # the first progress line: the reconstruction has started
+        assert first.rstrip().endswith(b"%"), first
         process.send_signal(signal.SIGINT)
         _, stderr = process.communicate(timeout=30)
     finally:
         process.kill()
     assert process.returncode == 128 + signal.SIGINT, stderr
-    assert b"\nshadecut: interrupted: nothing written" in stderr
+    assert b"shadecut: interrupted: nothing written" in stderr.splitlines()
     assert not (tmp_path / "out").exists()
 
 
@@ -182,3 +183,50 @@ def test_flip_writes_the_other_orientation_and_the_report_says_when_it_is_ambigu
     shadecut.save_image(tmp_path / "aside.exr", lit_aside.image, lit_aside.mask)
     oblique = run(tmp_path / "aside.exr", "--light", "1,0,1", "--albedo", 1, "--out", tmp_path / "oblique", "--quiet")
     assert "orientation read from the image" in oblique.stdout
+
+
+def test_an_output_named_like_the_input_is_refused_before_anything_is_written(tmp_path):
+    """An input named albedo.png in the output folder was replaced by the albedo output (issue 48, 1)."""
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=32)
+    for name in ("albedo.png", "depth.png", "normals.png"):
+        shadecut.save_image(tmp_path / name, sphere.image, sphere.mask)
+        before = (tmp_path / name).read_bytes()
+        done = run(tmp_path / name, "--light", "1,0,1", "--out", tmp_path, "--quiet")
+        assert done.returncode == 2 and f"would replace the input image" in done.stderr, done.stderr
+        assert (tmp_path / name).read_bytes() == before
+        (tmp_path / name).unlink()
+    assert sorted(entry.name for entry in tmp_path.iterdir()) == []
+
+
+def test_every_option_of_the_table_is_a_flag_with_its_default_in_the_help(tmp_path):
+    """The flags and --help are made from the option table: each field is there, and each is read."""
+    text = run("--help").stdout
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=32)
+    shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)
+    for field in shadecut.option_fields():
+        flag = "--" + field["name"].replace("_", "-")
+        assert f"\n  {flag}" in text and f"[default {field['default_text']}" in text.split(f"\n  {flag}")[1], flag
+    attached = run(tmp_path / "sphere.png", "--light=1,0,1", "--labels=24", "--no-refine", "--out", tmp_path / "out",
+                   "--quiet")
+    assert attached.returncode == 0, attached.stderr
+    bad = run(tmp_path / "sphere.png", "--light", "1,0,1", "--labels", "3", "--quiet", "--out", tmp_path / "bad")
+    assert bad.returncode == 2 and "labels must be in 4 .. 360; got 3" in bad.stderr
+    word = run(tmp_path / "sphere.png", "--retinex-passes", "two")
+    assert word.returncode == 2 and "retinex_passes takes a whole number; got 'two'" in word.stderr
+
+
+def test_a_log_gets_a_progress_line_per_step_and_runtime_errors_no_usage_hint(tmp_path):
+    """Progress into a file was one line of carriage returns; a disk error ended with the usage hint."""
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=64)
+    shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)
+    done = run(tmp_path / "sphere.png", "--light", "1,0,1", "--out", tmp_path / "out")
+    assert done.returncode == 0 and "\r" not in done.stderr
+    lines = done.stderr.splitlines()
+    assert 3 <= len(lines) <= 60 and all(line.rstrip().endswith("%") for line in lines), lines
+    with open("/dev/full", "w") as full:
+        broken = subprocess.run([str(CLI), str(tmp_path / "sphere.png"), "--light", "1,0,1", "--out", str(tmp_path / "again"),
+                                 "--quiet"], stdout=full, stderr=subprocess.PIPE, text=True, timeout=120)
+    assert broken.returncode == 2 and "standard output failed" in broken.stderr
+    assert "--help" not in broken.stderr
+    long_name = run(tmp_path / ("x" * 300 + ".png"), "--light", "1,0,1", "--quiet")
+    assert long_name.returncode == 2 and "filesystem error" not in long_name.stderr, long_name.stderr

@@ -3,8 +3,6 @@
 #include <shadecut/graphcut/tilt_energy.hpp>
 #include <shadecut/support/errors.hpp>
 
-#include "support/enum_names.hpp"
-
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -117,6 +115,13 @@ const std::vector<std::string>& names_of(Integrator) { return integrator_names()
 const std::vector<std::string>& names_of(AlbedoMethod) { return albedo_method_names(); }
 const std::vector<std::string>& names_of(LightMethod) { return light_method_names(); }
 
+// An enum's value by name, by its own parser (whose message names the enum as users know it).
+void parse_named(const std::string& text, SceneKind& value) { value = parse_scene_kind(text); }
+void parse_named(const std::string& text, Method& value) { value = parse_method(text); }
+void parse_named(const std::string& text, Integrator& value) { value = parse_integrator(text); }
+void parse_named(const std::string& text, AlbedoMethod& value) { value = parse_albedo_method(text); }
+void parse_named(const std::string& text, LightMethod& value) { value = parse_light_method(text); }
+
 template <class T>
 std::string number_as_text(T value) {
   if constexpr (std::is_same_v<T, bool>) {
@@ -148,7 +153,9 @@ T parse_text(const OptionField& field, const std::string& text) {
     if (text == "false" || text == "0" || text == "off") return false;
     refuse_text(field, text, "true or false");
   } else if constexpr (std::is_enum_v<T>) {
-    return parse_enum<T>(names_of(T{}), text, field.name.c_str());
+    T value{};
+    parse_named(text, value);
+    return value;
   } else {
     const bool whole = std::is_integral_v<T>;
     try {
