@@ -36,6 +36,29 @@ def test_panel_and_preferences_defaults_equal_the_bound_defaults(settings):
         shadecut.METHODS)
 
 
+def test_every_setting_named_for_an_option_starts_at_its_table_default_within_its_range(settings):
+    """The option table is the add-on's source too: a setting that is an option has its default and
+    stays inside its range; an option without a setting takes the table's default in the call."""
+    fields = {field["name"]: field for field in shadecut.option_fields()}
+    shared = [name for name in ShadeCutReconstructSettings.__annotations__ if name in fields]
+    assert {"scene", "labels", "data_weight", "integrator", "albedo_method", "fit_shading", "seamless"} <= set(shared)
+    for name in shared:
+        field, setting = fields[name], property_of(ShadeCutReconstructSettings, name)
+        default = field["default"]
+        expected = default.name if hasattr(default, "name") and hasattr(default, "value") else default
+        if name == "method":  # "Default" is the preferences' method, whose default is the table's
+            assert settings.method == "DEFAULT"
+            assert property_of(ShadeCutPreferences, "default_method").default == expected
+        elif isinstance(expected, float):
+            assert getattr(settings, name) == pytest.approx(expected), name
+        else:
+            assert getattr(settings, name) == expected, name
+        if field["low"] is not None and hasattr(setting, "hard_min"):
+            assert setting.hard_min >= field["low"], name
+        if field["high"] is not None and hasattr(setting, "hard_max"):
+            assert setting.hard_max <= field["high"], name
+
+
 def test_artist_sizes_by_default(settings):
     """A 4-megapixel working size, and a density chosen to keep the viewport interactive."""
     assert settings.max_resolution == 2048

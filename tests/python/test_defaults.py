@@ -3,6 +3,7 @@
 import inspect
 import re
 import subprocess
+import sys
 from pathlib import Path
 
 import shadecut
@@ -12,27 +13,23 @@ DEFAULTS = shadecut.ReconstructOptions()
 
 
 def cli_default(help_text: str, flag: str) -> str:
-    """The '(default X)' stated in the CLI's help for one flag (its entry may span lines)."""
-    entry = re.search(rf"^  {re.escape(flag)} .*?\(default ([^)]+)\)", help_text, re.M | re.S)
+    """The '[default X' stated in the CLI's help for one flag (its entry may span lines)."""
+    entry = re.search(rf"^  {re.escape(flag)}\b.*?\[default ([^;\]]+)", help_text, re.M | re.S)
     assert entry, f"{flag} states no default in --help"
     return entry.group(1)
 
 
 def test_the_cli_help_states_the_bound_defaults():
     help_text = subprocess.run([str(CLI), "--help"], capture_output=True, text=True, check=True).stdout
+    for field in shadecut.option_fields():
+        flag = "--" + field["name"].replace("_", "-")
+        assert cli_default(help_text, flag) == field["default_text"], flag
     assert cli_default(help_text, "--method") == DEFAULTS.method.name
-    assert cli_default(help_text, "--scene") == DEFAULTS.scene.name
-    relief = DEFAULTS.replace(scene="relief")
-    assert cli_default(help_text, "--light-method").split() == [
-        DEFAULTS.light_method_used().name, "for", "an", "object,", relief.light_method_used().name, "for", "a", "relief"]
-    assert cli_default(help_text, "--integrator") == DEFAULTS.integrator.name
     assert int(cli_default(help_text, "--labels")) == DEFAULTS.labels
-    assert float(cli_default(help_text, "--data-weight")) == DEFAULTS.data_weight
-    assert int(cli_default(help_text, "--band")) == DEFAULTS.coarse_to_fine_band
-    assert int(cli_default(help_text, "--band-radius")) == DEFAULTS.coarse_to_fine_radius
-    assert int(cli_default(help_text, "--threads")) == DEFAULTS.threads
-    assert cli_default(help_text, "--fit-shading") == ("on" if DEFAULTS.fit_shading else "off")
-    assert float(cli_default(help_text, "--fit-smoothness")) == DEFAULTS.fit_smoothness
+    # light_method's help names the estimators used when it is None, as light_method_used() picks them.
+    relief = DEFAULTS.replace(scene="relief")
+    assert (f"{DEFAULTS.light_method_used().name} for an object, {relief.light_method_used().name} for a relief"
+            in " ".join(help_text.split()))
     assert "--maxflow" not in help_text  # the test solvers are no user option
 
 
@@ -86,20 +83,35 @@ def documented(cell: str):
         return literal
 
 
-def test_the_docs_state_every_bound_option_default():
+def test_the_docs_options_table_is_made_from_the_option_table():
+    """docs/python_api.md's options are the option table's rows, in its order, as scripts/option_docs.py makes them."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
+    import option_docs
+
+    text = DOCS.read_text()
+    assert option_docs.with_table(text) == text, "run scripts/option_docs.py"
     rows = table_rows("option")
-    assert set(rows) == set(shadecut.OPTION_NAMES)
+    assert list(rows) == list(shadecut.OPTION_NAMES) == [field["name"] for field in shadecut.option_fields()]
     for name, cells in rows.items():
-        default = cells[0]
         value = getattr(DEFAULTS, name)
-        if default == "per method":
-            assert value is None, name
-            continue
         expected = value.name if hasattr(value, "name") and hasattr(value, "value") else value
-        if isinstance(expected, bool) or expected is None or isinstance(expected, str):
-            assert documented(default) == expected, name
+        if isinstance(expected, (bool, str)) or expected is None:
+            assert documented(cells[1]) == expected, name
         else:
-            assert documented(default) == float(expected), name
+            assert documented(cells[1]) == float(expected), name
+
+
+def test_every_layer_has_every_field_of_the_table():
+    """A new row of the option table is a Python property, a keyword of reconstruct(), a flag with its
+    default in --help and a row of the docs' table: each is made by iterating the table."""
+    help_text = subprocess.run([str(CLI), "--help"], capture_output=True, text=True, check=True).stdout
+    names = [field["name"] for field in shadecut.option_fields()]
+    assert names == list(shadecut.OPTION_NAMES)
+    assert set(names) == set(re.findall(r"(\w+)=", repr(DEFAULTS)))
+    for name in names:
+        assert hasattr(DEFAULTS, name)
+        assert f"\n  --{name.replace('_', '-')}" in help_text
+        assert f"| `{name}` |" in DOCS.read_text()
 
 
 def test_the_docs_state_every_method_default():
@@ -118,6 +130,6 @@ def test_the_highlight_threshold_left_none_follows_the_albedo_method_as_the_docs
     row = " ".join(table_rows("option")["highlight_threshold"])
     retinex = DEFAULTS.replace(albedo_method="retinex")
     assert DEFAULTS.highlight_threshold is None and DEFAULTS.highlight_threshold_used() <= 0.0
-    assert "never with one albedo" in row
-    assert f"{retinex.highlight_threshold_used():g} with `retinex`" in row
+    assert "never otherwise" in row
+    assert f"{retinex.highlight_threshold_used():g} with retinex" in row
     assert retinex.replace(highlight_threshold=0.0).highlight_threshold_used() == 0.0

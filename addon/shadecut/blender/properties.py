@@ -5,12 +5,26 @@ from __future__ import annotations
 
 import bpy
 
-from ..api import MAX_VERTICES, MIN_LABELS, AlbedoMethod, Integrator, ReconstructOptions, SceneKind
+from ..api import MAX_VERTICES, AlbedoMethod, Integrator, ReconstructOptions, SceneKind, option_fields
 from . import lambertian
 from .preferences import METHOD_ITEMS
 
-# The library's defaults, held once in C++; the panel starts from them.
+# The library's defaults and ranges, held once in C++ (its option table); the panel starts from them.
 DEFAULTS = ReconstructOptions()
+OPTION_FIELDS = {field["name"]: field for field in option_fields()}
+
+
+def option_bounds(name: str) -> dict:
+    """The hard min and max of the option's table range, as property keywords."""
+    field = OPTION_FIELDS[name]
+    number = int if field["kind"] == "whole" else float
+    bounds = {}
+    if field["low"] is not None:
+        bounds["min"] = number(field["low"])
+    if field["high"] is not None:
+        bounds["max"] = number(field["high"])
+    return bounds
+
 INTEGRATOR_DESCRIPTIONS = {
     "poisson": ("Poisson", "Joins the slopes inside the mask only (least squares)"),
     "frankot_chellappa": ("Frankot-Chellappa", "Joins the slopes over the whole image at once (Fourier): fast, "
@@ -127,12 +141,12 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         description="The shape-from-shading algorithm",
     )
     labels: bpy.props.IntProperty(
-        name="Tilt steps", default=DEFAULTS.labels, min=MIN_LABELS, max=360,
+        name="Tilt steps", default=DEFAULTS.labels, **option_bounds("labels"),
         description="How many slope directions the graph cut chooses among (its labels): "
                     "more is finer and slower",
     )
     data_weight: bpy.props.FloatProperty(
-        name="Image trust", default=DEFAULTS.data_weight, min=0.0, soft_max=5.0,
+        name="Image trust", default=DEFAULTS.data_weight, **option_bounds("data_weight"), soft_max=5.0,
         description="How closely the surface follows the image's shading rather than staying smooth "
                     "(the graph cut's data weight): higher keeps more detail, and more noise",
     )
