@@ -274,6 +274,28 @@ def _tiff_orientation(tiff: bytes) -> int:
     return 1
 
 
+def tiff_extra_sample_undeclared(data) -> bool:
+    """True for a TIFF whose first directory holds a sample beyond its grey or RGB ones without saying
+    what it is (no ExtraSamples tag, or 0 = unspecified): not an alpha by the TIFF rule, which Blender
+    4.3 and 5.2 read as one all the same (Blender 3.4 does not). False for anything else."""
+    order = {b"II*\x00": "<", b"MM\x00*": ">"}.get(bytes(data[:4]))
+    if order is None:
+        return False
+    tags = {}
+    try:
+        (offset,) = struct.unpack(order + "I", data[4:8])
+        (count,) = struct.unpack(order + "H", data[offset:offset + 2])
+        for index in range(count):
+            start = offset + 2 + 12 * index
+            tag, kind = struct.unpack(order + "HH", data[start:start + 4])
+            if tag in (262, 277, 338) and kind == 3:  # PhotometricInterpretation, SamplesPerPixel, ExtraSamples
+                (tags[tag],) = struct.unpack(order + "H", data[start + 8:start + 10])
+    except struct.error:
+        return False
+    colour_samples = {0: 1, 1: 1, 2: 3}.get(tags.get(262))
+    return colour_samples is not None and tags.get(277, 1) > colour_samples and tags.get(338, 0) == 0
+
+
 def oriented(pixels, orientation: int):
     """``pixels`` (H, W[, C]) as viewers show a file of EXIF ``orientation``: its stored rows turned
     and mirrored upright (6: turned 90 degrees clockwise; 8: counter-clockwise; 3: 180 degrees)."""

@@ -186,18 +186,35 @@ def test_a_photograph_stored_sideways_is_reconstructed_upright(addon, tmp_path, 
     assert error < 15.0, error
 
 
-def test_a_tiff_turned_by_a_quarter_is_refused(addon, tmp_path):
-    """Blender mirrors such a TIFF without turning it: no reading of its pixels is certain."""
-    import OpenImageIO as oiio
+# The stored rows of a file declaring each EXIF orientation, made from the upright picture (the
+# rule's inverse of what a viewer does: 6 is stored turned a quarter counter-clockwise).
+STORED = {1: lambda u: u, 2: lambda u: u[:, ::-1], 3: lambda u: u[::-1, ::-1], 4: lambda u: u[::-1],
+          5: lambda u: u.T, 6: lambda u: np.rot90(u, 1), 7: lambda u: u[::-1, ::-1].T, 8: lambda u: np.rot90(u, -1)}
 
-    spec = oiio.ImageSpec(12, 8, 1, oiio.UINT8)
-    spec.attribute("Orientation", 6)
+
+@pytest.mark.parametrize("orientation", range(1, 9))
+def test_a_tiff_is_read_upright_or_refused_where_blender_turns_it_in_part(addon, tmp_path, orientation):
+    """Blender 3.4 turns a TIFF by its tag itself, but only mirrors a quarter turn (refused: 5 to 8);
+    4.3 and 5.2 ignore the tag, and the add-on turns every orientation."""
+    import OpenImageIO as oiio
+    from shadecut.blender import image_input
+    from shadecut.blender.orientation_probe import blender_turns_tiffs
+
+    upright = (np.random.default_rng(orientation).permutation(60) * 4).reshape(6, 10).astype(np.uint8)
+    stored = np.ascontiguousarray(STORED[orientation](upright))
+    spec = oiio.ImageSpec(stored.shape[1], stored.shape[0], 1, oiio.UINT8)
+    spec.attribute("Orientation", orientation)
     buffer = oiio.ImageBuf(spec)
-    buffer.set_pixels(oiio.ROI(), np.full((8, 12, 1), 128, np.uint8))
-    assert buffer.write(str(tmp_path / "turned.tif"))
-    bpy.context.scene.shadecut.light_source = "DIRECTION"
-    with pytest.raises(RuntimeError, match="'turned.tif' is stored turned by a quarter .* save it upright"):
-        bpy.ops.shadecut.reconstruct(filepath=str(tmp_path / "turned.tif"))
+    buffer.set_pixels(oiio.ROI(), stored[..., None])
+    assert buffer.write(str(tmp_path / "turned.tif")), buffer.geterror()
+    image = bpy.data.images.load(str(tmp_path / "turned.tif"))
+    if blender_turns_tiffs() and orientation > 4:
+        with pytest.raises(image_input.InputError, match="'turned.tif' is stored turned by a quarter .* save it upright"):
+            image_input.image_pixels(image)
+        return
+    intensity, _, _, _ = image_input.image_pixels(image)
+    assert intensity.shape == upright.shape
+    np.testing.assert_array_equal(np.argsort(intensity.ravel()), np.argsort(upright.ravel()))  # decoding keeps order
 
 
 def test_a_tiff_of_several_pages_is_refused_by_file_and_as_the_panels_image(addon, tmp_path):

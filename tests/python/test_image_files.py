@@ -122,3 +122,20 @@ def test_a_file_of_several_images_is_refused_not_read_as_its_first(tmp_path, nam
     if name.endswith(".tif"):
         assert tiff_pages(path.read_bytes()) == 2
         assert tiff_pages(pages(tmp_path / "one.tif", 1).read_bytes()) == 1
+
+
+@pytest.mark.parametrize("names, alpha, undeclared", [(("R", "G"), None, True), (("Y", "A"), 1, False),
+                                                      (("R", "G", "B"), None, False), (("R", "G", "B", "X"), None, True),
+                                                      (("R", "G", "B", "A"), 3, False)])
+def test_a_tiff_sample_beyond_its_colour_is_an_alpha_only_when_declared(tmp_path, names, alpha, undeclared):
+    """Issue 48, finding 14: Blender 4.3 and 5.2 read an undeclared second channel as the alpha."""
+    from shadecut.image_header import tiff_extra_sample_undeclared
+
+    spec = oiio.ImageSpec(4, 3, len(names), oiio.UINT8)
+    spec.channelnames = names
+    spec.alpha_channel = -1 if alpha is None else alpha  # OpenImageIO takes a 4th channel for alpha unless told
+    buffer = oiio.ImageBuf(spec)
+    buffer.set_pixels(oiio.ROI(), np.full((3, 4, len(names)), 0.5, np.float32))
+    assert buffer.write(str(tmp_path / "a.tif"))
+    assert tiff_extra_sample_undeclared((tmp_path / "a.tif").read_bytes()) == undeclared
+    assert not tiff_extra_sample_undeclared(noisy(tmp_path / "a.png").read_bytes())

@@ -17,8 +17,9 @@ import numpy as np
 from .. import _core, imaging
 from ..file_kinds import special_file_kind
 from ..image_header import (SEARCH_LIMIT, cut_short_bytes, declared_size, exif_orientation_bytes, mapped, oriented,
-                            tiff_pages)
+                            tiff_extra_sample_undeclared, tiff_pages)
 from .capabilities import linear_colour_spaces
+from .orientation_probe import blender_turns_tiffs
 from .wording import short_bytes
 
 # Bytes per pixel while an image file is read: Blender's own buffer (float RGBA for 16-bit and float
@@ -73,10 +74,13 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
     band = factor * max(1, BAND_PIXELS // (width * factor))
     in_colour = image.channels >= 3
     intensities, masks, colours, bad, bad_outside = [], [], [], 0, 0
+    opaque = tiff_extra_sample_undeclared(_file_start(image))  # a second channel that is not an alpha
     for top in range(0, kept, band):
         rows = min(band, kept - top)
-        intensity, mask, colour = imaging.decode_rgba(_rgba(stored[height - top - rows:height - top][::-1]),
-                                                      srgb_encoded=srgb)
+        rgba = _rgba(stored[height - top - rows:height - top][::-1])
+        if opaque:
+            rgba[..., 3] = 1.0
+        intensity, mask, colour = imaging.decode_rgba(rgba, srgb_encoded=srgb)
         finite = np.isfinite(intensity)
         bad += np.count_nonzero(~finite)
         bad_outside += np.count_nonzero(~finite & ~mask)
@@ -100,23 +104,30 @@ def image_pixels(image: bpy.types.Image, max_size: int = 0) -> tuple[np.ndarray,
 def image_orientation(image: bpy.types.Image) -> int:
     """The EXIF orientation (1 to 8, 1 = upright) still to apply to the pixels Blender decoded of
     ``image``: a phone's portrait is stored sideways (6 or 8), every viewer shows it upright, and the
-    light the user gives is the one seen upright. Blender ignores a JPEG's orientation, so it is
-    applied here; it applies a TIFF's mirrors and half turn itself (1 to 4) but only the mirror of a
-    quarter turn (5 to 8): InputError for those, which no reading here can undo for certain."""
-    if image.source != "FILE":
-        return 1
-    if image.packed_file is not None:
-        start = image.packed_file.data[:SEARCH_LIMIT]
-    else:
-        with mapped(bpy.path.abspath(image.filepath, library=image.library)) as data:
-            start = b"" if data is None else data[:SEARCH_LIMIT]
+    light the user gives is the one seen upright. Blender ignores a JPEG's orientation (3.4, 4.3 and
+    5.2 alike), so it is applied here, as a TIFF's where Blender ignores that too (4.3, 5.2). Where
+    Blender turns a TIFF itself (3.4: :func:`~.orientation_probe.blender_turns_tiffs`), it applies
+    the mirrors and the half turn (1 to 4) but only mirrors a quarter turn (5 to 8): InputError for
+    those, which no reading here can undo for certain."""
+    start = _file_start(image)
     orientation = exif_orientation_bytes(start)
-    if start[:2] == b"\xff\xd8":
+    if orientation == 1 or start[:2] == b"\xff\xd8" or not blender_turns_tiffs():
         return orientation
     if orientation > 4:  # a TIFF turned by a quarter
         raise InputError(f"Image '{image.name}' is stored turned by a quarter (its Orientation tag is {orientation}), "
                          "which Blender reads only in part: save it upright in an image editor first")
     return 1
+
+
+def _file_start(image: bpy.types.Image) -> bytes:
+    """The first bytes of the file (or packed file) behind ``image``, where its header lies; b"" for a
+    generated image or a file that cannot be read (a pipe is never opened)."""
+    if image.source != "FILE":
+        return b""
+    if image.packed_file is not None:
+        return image.packed_file.data[:SEARCH_LIMIT]
+    with mapped(bpy.path.abspath(image.filepath, library=image.library)) as data:
+        return b"" if data is None else data[:SEARCH_LIMIT]
 
 
 def upright_size(image: bpy.types.Image) -> tuple[int, int]:
