@@ -274,6 +274,42 @@ def _tiff_orientation(tiff: bytes) -> int:
     return 1
 
 
+def exr_channel_names(data) -> Optional[list[str]]:
+    """The channel names an OpenEXR file's (first part's) header lists, from its bytes; None for
+    another format or a header this cannot read."""
+    if bytes(data[:4]) != b"\x76\x2f\x31\x01":
+        return None
+    offset = 8
+    try:
+        while offset < min(len(data), SEARCH_LIMIT):
+            name_end = _index(data, offset)
+            if name_end == offset:  # the end of the header: no channel list
+                return None
+            kind_end = _index(data, name_end + 1)
+            (length,) = struct.unpack("<i", data[kind_end + 1:kind_end + 5])
+            value = bytes(data[kind_end + 5:kind_end + 5 + length])
+            if bytes(data[offset:name_end]) == b"channels" and bytes(data[name_end + 1:kind_end]) == b"chlist":
+                names, position = [], 0
+                while value[position:position + 1] not in (b"", b"\x00"):
+                    end = value.index(b"\x00", position)
+                    names.append(value[position:end].decode("utf-8", "replace"))
+                    position = end + 1 + 16  # pixel type, pLinear and reserved, x and y sampling
+                return names
+            offset = kind_end + 5 + length
+    except (ValueError, struct.error):
+        return None
+    return None
+
+
+def _index(data, start: int) -> int:
+    """Where the next NUL byte from ``start`` lies in bytes or a mapped file (which has no index());
+    ValueError when none does."""
+    found = data.find(b"\x00", start)
+    if found < 0:
+        raise ValueError("no end of a name")
+    return found
+
+
 def tiff_extra_sample_undeclared(data) -> bool:
     """True for a TIFF whose first directory holds a sample beyond its grey or RGB ones without saying
     what it is (no ExtraSamples tag, or 0 = unspecified): not an alpha by the TIFF rule, which Blender

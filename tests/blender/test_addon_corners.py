@@ -260,3 +260,18 @@ def test_a_mask_drawn_upright_fits_a_photograph_stored_sideways(addon, tmp_path)
     assert tuple(source.size) == (96, 72)  # as stored
     drawn = bpy.data.images.load(write_file(tmp_path / "mask.png", np.where(mask, 255, 0).astype(np.uint8)[..., None]))
     np.testing.assert_array_equal(image_input.picked_mask(drawn, source, 0), mask)
+
+
+def test_an_exr_whose_channels_name_no_picture_is_refused(addon, tmp_path):
+    """Blender 3.4 reads an EXR of channels foo and bar as black, 5.2 reads bar as the picture."""
+    import OpenImageIO as oiio
+
+    spec = oiio.ImageSpec(12, 8, 2, oiio.FLOAT)
+    spec.channelnames = ("foo", "bar")
+    buffer = oiio.ImageBuf(spec)
+    buffer.set_pixels(oiio.ROI(), np.random.default_rng(0).random((8, 12, 2)).astype(np.float32))
+    assert buffer.write(str(tmp_path / "foobar.exr"))
+    bpy.context.scene.shadecut.light_source = "DIRECTION"
+    with pytest.raises(RuntimeError, match=r"'.*foobar.exr': the file is an EXR whose channels \(bar, foo\) name no "
+                                           r"colour \(R, G, B\) or grey \(Y\)"):
+        bpy.ops.shadecut.reconstruct(filepath=str(tmp_path / "foobar.exr"))

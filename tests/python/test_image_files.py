@@ -139,3 +139,18 @@ def test_a_tiff_sample_beyond_its_colour_is_an_alpha_only_when_declared(tmp_path
     assert buffer.write(str(tmp_path / "a.tif"))
     assert tiff_extra_sample_undeclared((tmp_path / "a.tif").read_bytes()) == undeclared
     assert not tiff_extra_sample_undeclared(noisy(tmp_path / "a.png").read_bytes())
+
+
+@pytest.mark.parametrize("names", [("foo", "bar"), ("Y", "A"), ("R", "G", "B", "A"), ("layer.R", "layer.G", "layer.B")])
+def test_the_channel_names_of_an_exr_are_read_from_its_header(tmp_path, names):
+    from shadecut.image_header import exr_channel_names, mapped
+
+    spec = oiio.ImageSpec(4, 3, len(names), oiio.FLOAT)
+    spec.channelnames = names
+    buffer = oiio.ImageBuf(spec)
+    buffer.set_pixels(oiio.ROI(), np.full((3, 4, len(names)), 0.5, np.float32))
+    assert buffer.write(str(tmp_path / "a.exr"))
+    assert sorted(exr_channel_names((tmp_path / "a.exr").read_bytes())) == sorted(names)
+    with mapped(tmp_path / "a.exr") as data:  # as the add-on reads it: a mapped file, not bytes
+        assert sorted(exr_channel_names(data)) == sorted(names)
+    assert exr_channel_names(noisy(tmp_path / "a.png").read_bytes()) is None

@@ -16,8 +16,8 @@ import numpy as np
 
 from .. import _core, imaging
 from ..file_kinds import special_file_kind
-from ..image_header import (SEARCH_LIMIT, cut_short_bytes, declared_size, exif_orientation_bytes, mapped, oriented,
-                            tiff_extra_sample_undeclared, tiff_pages)
+from ..image_header import (SEARCH_LIMIT, cut_short_bytes, declared_size, exif_orientation_bytes, exr_channel_names,
+                            mapped, oriented, tiff_extra_sample_undeclared, tiff_pages)
 from .capabilities import linear_colour_spaces
 from .orientation_probe import blender_turns_tiffs
 from .wording import short_bytes
@@ -34,6 +34,8 @@ BAND_PIXELS = 1 << 22
 MOVING_SOURCES = {"SEQUENCE": "an image sequence", "MOVIE": "a movie"}
 
 
+# The channel names (the last part of a layered EXR's "layer.R") that say a channel holds the picture.
+IMAGE_CHANNELS = {"R", "G", "B", "Y"}
 CUT_SHORT = ("the file is cut short (its data stops before the end of the image, as after an interrupted copy or "
              "download): copy it again")
 
@@ -156,6 +158,10 @@ def file_problem(data) -> Optional[str]:
     if tiff_pages(data) > 1:
         return ("the file is a TIFF of several pages, of which Blender reads only the first: save the page to "
                 "reconstruct as a file of its own")
+    channels = exr_channel_names(data)
+    if channels is not None and not {name.rsplit(".", 1)[-1] for name in channels} & IMAGE_CHANNELS:
+        return (f"the file is an EXR whose channels ({', '.join(channels)}) name no colour (R, G, B) or grey (Y): "
+                "which of them holds the picture is unknown (Blender reads one as it likes); name them so")
     return None
 
 
