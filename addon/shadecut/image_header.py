@@ -1,5 +1,6 @@
-"""An image file's width and height read from its header, without decoding any pixel; whether a
-JPEG or PNG is cut short; its EXIF orientation.
+"""An image file's width and height read from its header, without decoding any pixel; and what else
+its bytes tell that Blender's decoders pass over: a JPEG or PNG cut short, a TIFF of several pages or
+with an undeclared extra sample, an EXR's channel names, the EXIF orientation.
 
 For the Blender add-on, whose zip has no OpenImageIO: it must know how large an image is before
 Blender decodes it (a few hundred kilobytes of PNG can declare 16000 x 16000 pixels, gigabytes once
