@@ -1,5 +1,7 @@
 #include <shadecut/photometric/choose_candidates.hpp>
 
+#include "photometric/integrable_segments.hpp"
+
 #include <shadecut/graphcut/maxflow.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/validate.hpp>
@@ -206,7 +208,11 @@ CandidateCutResult choose_candidates(const NormalCandidates& candidates, const C
     }
     ++cycles;
   }
+  detail::SegmentCount segments;
+  if (params.integrable_segments) segments = detail::switch_to_integrable(candidates, choice);
   CandidateCutResult result = chosen_normals(candidates, choice);
+  result.segments = segments.segments;
+  result.switched_segments = segments.switched;
   result.initial_energy = initial;
   result.energy = current;
   result.cycles = cycles;
@@ -219,6 +225,7 @@ NormalCandidates photometric_candidates(const PhotometricStereoResult& result) {
   NormalCandidates candidates;
   candidates.normals = {result.normals, result.first_candidate};
   candidates.count = CountImage::Zero(rows, cols);
+  candidates.data_cost.assign(2, ImageF::Zero(rows, cols));
   for (int p = 0; p < rows * cols; ++p) {
     const int usable = result.usable.data()[p];
     if (usable >= 3) {
@@ -227,6 +234,8 @@ NormalCandidates photometric_candidates(const PhotometricStereoResult& result) {
       candidates.count.data()[p] = 2;
       candidates.normals[0].xyz.row(p) = result.first_candidate.xyz.row(p);
       candidates.normals[1].xyz.row(p) = result.second_candidate.xyz.row(p);
+      for (int k = 0; k < 2; ++k)
+        candidates.data_cost[std::size_t(k)].data()[p] = std::max(0.0f, -candidates.normals[std::size_t(k)].xyz(p, 2));
     }
   }
   return candidates;

@@ -78,9 +78,10 @@ double uniform_pair_albedo(const std::vector<UsablePair>& pairs, const std::vect
 }  // namespace
 
 void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<Eigen::Vector3d>& lights, const Mask& mask,
-                   double albedo, PhotometricStereoResult& result) {
-  ImageF pair_albedo = albedo > 0.0 ? ImageF(ImageF::Constant(mask.rows(), mask.cols(), float(albedo)))
-                                    : nearest_fitted_albedo(result, mask);
+                   const PhotometricStereoParams& params, PhotometricStereoResult& result) {
+  ImageF pair_albedo = params.albedo_map.size() > 0 ? params.albedo_map
+                       : params.albedo > 0.0 ? ImageF(ImageF::Constant(mask.rows(), mask.cols(), float(params.albedo)))
+                                             : nearest_fitted_albedo(result, mask);
   const double uniform = uniform_pair_albedo(pairs, lights, pair_albedo);
   for (std::size_t p = 0; p < pairs.size(); ++p) {
     const UsablePair& pair = pairs[p];

@@ -16,7 +16,12 @@
 namespace shadecut {
 namespace {
 
-void check_params(const PhotometricStereoParams& params) {
+void check_params(const PhotometricStereoParams& params, const Mask& mask) {
+  const ImageF& map = params.albedo_map;
+  if (map.size() > 0 && (map.rows() != mask.rows() || map.cols() != mask.cols()))
+    throw InvalidArgument("shadecut: the albedo map does not have the photographs' size");
+  if (map.size() > 0 && !map.isFinite().all())
+    throw InvalidArgument("shadecut: the albedo map holds a NaN or infinite value");
   if (!(params.shadow_fraction >= 0.0 && params.shadow_fraction < 1.0))
     throw InvalidArgument("shadecut: shadow_fraction must lie in [0, 1), got " + number_text(params.shadow_fraction));
   if (!(params.outlier_tolerance > 0.0) || !std::isfinite(params.outlier_tolerance))
@@ -121,7 +126,7 @@ PhotometricStereoResult photometric_stereo(const std::vector<ImageF>& images, co
                                            const Mask& mask, const std::vector<Mask>& clipped,
                                            const PhotometricStereoParams& params, const Progress& progress) {
   check_inputs(images, lights, mask, clipped);
-  check_params(params);
+  check_params(params, mask);
   const std::vector<Eigen::Vector3d> unit = checked_lights(lights);
   const int rows = int(mask.rows()), cols = int(mask.cols());
   PhotometricStereoResult result = empty_result(rows, cols);
@@ -134,7 +139,7 @@ PhotometricStereoResult photometric_stereo(const std::vector<ImageF>& images, co
     result.single_pixels += usable == 1;
     result.pair_pixels += usable == 2;
   }
-  if (result.pair_pixels > 0) detail::resolve_pairs(pairs, unit, mask, params.albedo, result);
+  if (result.pair_pixels > 0) detail::resolve_pairs(pairs, unit, mask, params, result);
   return result;
 }
 

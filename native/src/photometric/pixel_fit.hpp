@@ -48,9 +48,8 @@ class PixelFitter {
 };
 
 /// Fills result.first_candidate, second_candidate and albedo at the pixels where pairs[p].a >= 0,
-/// with the albedo `albedo` (> 0) or, for 0, as PhotometricStereoParams::albedo describes.
+/// with the albedo PhotometricStereoParams::albedo_map or albedo describe.
 void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<Eigen::Vector3d>& lights, const Mask& mask,
-                   double albedo,
-                   PhotometricStereoResult& result);
+                   const PhotometricStereoParams& params, PhotometricStereoResult& result);
 
 }  // namespace shadecut::detail

@@ -45,17 +45,19 @@ inline double degrees_between(const Eigen::Vector3f& a, const Eigen::Vector3f& b
   return std::acos(std::clamp(double(a.normalized().dot(b.normalized())), -1.0, 1.0)) * 180.0 / M_PI;
 }
 
-/// The outline's pull, for the tests and measurements: on the mask's edge a candidate costs `weight` (1 - cos d) / 2, d
-/// the angle between the edge's outward direction and the candidate's image-plane direction.
+/// The outline's pull, for the tests and measurements: on the mask's edge a candidate costs `weight`
+/// (1 - cos d) / 2 more, d the angle between the edge's outward direction and the candidate's
+/// image-plane direction; the candidates' own costs (if any) plus these.
 inline std::vector<ImageF> outline_costs(const NormalCandidates& candidates, const Mask& mask, double weight) {
-  std::vector<ImageF> costs(candidates.normals.size(), ImageF::Zero(mask.rows(), mask.cols()));
+  std::vector<ImageF> costs = candidates.data_cost;
+  if (costs.empty()) costs.assign(candidates.normals.size(), ImageF::Zero(mask.rows(), mask.cols()));
   for (int r = 0; r < mask.rows(); ++r)
     for (int c = 0; c < mask.cols(); ++c) {
       const Eigen::Vector2d outward = detail::contour_outward(mask, r, c);
       if (!mask(r, c) || outward.isZero()) continue;
       for (std::size_t k = 0; k < costs.size(); ++k) {
         const Eigen::Vector2d across = candidates.normals[k].xyz.row(r * mask.cols() + c).head<2>().cast<double>();
-        if (across.norm() > 0.0) costs[k](r, c) = float(weight * (1.0 - outward.dot(across.normalized())) / 2.0);
+        if (across.norm() > 0.0) costs[k](r, c) += float(weight * (1.0 - outward.dot(across.normalized())) / 2.0);
       }
     }
   return costs;

@@ -135,6 +135,24 @@ TEST(PhotometricStereo, TwoPhotographPixelsTakeTheAlbedoOfTheirThreeLightNeighbo
   EXPECT_LT(worst, 0.1);
 }
 
+TEST(PhotometricStereo, TwoPhotographsOfPaintWithItsAlbedoGiven) {
+  const auto scene = testing::sphere_scene(96, 0.45, {0, 0, 1});
+  const LightDirections lights = lights_around(2, 45.0, 0.0, 100.0);
+  PhotometricStereoParams params;
+  params.albedo_map = painted_albedo(96, 96);
+  const auto result = photometric_stereo(photographs(scene, lights, params.albedo_map), lights, scene.mask, {}, params);
+  ASSERT_GT(result.pair_pixels, 1000);
+  double worst = 0.0;
+  for (Eigen::Index p = 0; p < scene.normals.size(); ++p)
+    if (result.usable.data()[p] == 2)
+      worst = std::max(worst, std::min(degrees_between(result.first_candidate.xyz.row(p), scene.normals.xyz.row(p)),
+                                       degrees_between(result.second_candidate.xyz.row(p), scene.normals.xyz.row(p))));
+  EXPECT_LT(worst, 0.05);
+  params.albedo_map = ImageF::Ones(96, 95);
+  EXPECT_THROW(photometric_stereo(photographs(scene, lights, ImageF::Ones(96, 96)), lights, scene.mask, {}, params),
+               InvalidArgument);
+}
+
 TEST(PhotometricStereo, APixelDarkInEveryPhotographIsReportedNotFitted) {
   const auto scene = testing::sphere_scene(64, 0.45, {0, 0, 1});
   const LightDirections lights = lights_around(4, 40.0, 90.0, 90.0);

@@ -24,7 +24,10 @@ struct NormalCandidates {
 };
 
 /// The candidates photometric_stereo leaves: one (its normal) where three or more photographs are
-/// usable, two (first_candidate, second_candidate) where two are, none elsewhere.
+/// usable, two (first_candidate, second_candidate) where two are, none elsewhere. A candidate that
+/// faces away from the viewer (n_z < 0) costs -n_z, about its distance to the nearest visible normal:
+/// near the outline noise puts the true normal there too, so it stays a candidate (a pixel left with
+/// one would hold its neighbours to it).
 NormalCandidates photometric_candidates(const PhotometricStereoResult& result);
 
 struct CandidateCutParams {
@@ -32,15 +35,28 @@ struct CandidateCutParams {
   /// a chord), against the data costs. > 0.
   double smoothness = 1.0;
   int max_cycles = 10;  ///< cycles of moves over the candidate indices, >= 1
+  /// After the cut, every segment of pixels with two candidates (4-connected, bounded where the two
+  /// come within kCoincidentDegrees of each other) is switched to its other candidates when that makes
+  /// the normals clearly more integrable (the squared curl of their gradients, summed over the 2 x 2
+  /// cells that touch it, falls by half or more). The smoothness term cannot tell such a segment from
+  /// its mirror image: two
+  /// lights leave the mirror of a smooth field across their plane as smooth, but not integrable.
+  bool integrable_segments = true;
 };
+
+/// Two candidates closer than this (degrees) are one: the pixel bounds segments (integrable_segments).
+constexpr double kCoincidentDegrees = 3.0;
 
 struct CandidateCutResult {
   NormalMap normals;   ///< H x W, the chosen candidate as given; (0, 0, 0) where count is 0
   CountImage choice;   ///< H x W, the chosen candidate's index; -1 where count is 0
   double initial_energy = 0.0;  ///< energy of the start: every pixel at its cheapest candidate
-  double energy = 0.0;          ///< energy of the result (never above initial_energy)
+  double energy = 0.0;          ///< energy of the cut's result (never above initial_energy), before
+                                ///< integrable_segments
   int cycles = 0;               ///< cycles run
   int accepted_moves = 0;       ///< moves that lowered the energy
+  int segments = 0;             ///< segments of two candidates (integrable_segments)
+  int switched_segments = 0;    ///< of them, switched to their other candidates
 };
 
 /// Minimizes E = sum_p D_p(k_p) + smoothness sum over 4-neighbours (p, q) with candidates of
@@ -50,7 +66,7 @@ struct CandidateCutResult {
 /// (Rother et al. 2005) and a move is kept only if the exact energy falls, so the energy never rises.
 /// Cycles stop when a cycle keeps no move or after max_cycles. With two candidates per pixel named
 /// consistently (photometric_candidates: `first` on the viewer's side of the lights' plane), a region
-/// whose whole choice is wrong switches in one move.
+/// whose whole choice is wrong switches in one move. Then CandidateCutParams::integrable_segments.
 ///
 /// @param[in] candidates the candidates (shapes checked).
 /// @param[in] params     weights.

@@ -36,6 +36,10 @@ struct PhotometricStereoParams {
   /// photographs are usable; where there are none, the smallest uniform albedo that is consistent
   /// with all but one percent of the two-photograph pixels (kTwoLightAlbedoQuantile).
   double albedo = 0.0;
+  /// Empty, or H x W: per pixel, the albedo the two candidates assume (> 0 where two photographs are
+  /// usable), in place of `albedo` (an albedo known from elsewhere: another set of photographs, a
+  /// painted reference).
+  ImageF albedo_map;
   int threads = 0;  ///< threads of the per-pixel fits; 0 = all cores
 };
 
