@@ -193,16 +193,32 @@ def _cut_short(data) -> bool:
 def tiff_pages(data) -> int:
     """How many pages (image directories) a TIFF's bytes hold, counted up to 2: Blender reads the
     first of a multi-page TIFF without a word. 1 for anything else or a damaged chain."""
+    directory = _tiff_directory(data)
+    return 2 if directory is not None and 0 < directory[1] < len(data) else 1
+
+
+def _tiff_directory(data) -> Optional[tuple[dict[int, int], int]]:
+    """The first directory of a TIFF structure's bytes: the value of its entries that hold a SHORT or a
+    LONG (tag -> the first value) and the offset of the next directory (0: none); None when not a TIFF
+    or cut short."""
     order = {b"II*\x00": "<", b"MM\x00*": ">"}.get(bytes(data[:4]))
     if order is None:
-        return 1
+        return None
+    values = {}
     try:
         (offset,) = struct.unpack(order + "I", data[4:8])
         (count,) = struct.unpack(order + "H", data[offset:offset + 2])
+        for index in range(count):
+            start = offset + 2 + 12 * index
+            tag, kind, items = struct.unpack(order + "HHI", data[start:start + 8])
+            if kind == 3 and items <= 2:  # SHORTs held in the entry itself: the first one
+                (values[tag],) = struct.unpack(order + "H", data[start + 8:start + 10])
+            elif kind == 4 and items == 1:  # a LONG held in the entry itself
+                (values[tag],) = struct.unpack(order + "I", data[start + 8:start + 12])
         (following,) = struct.unpack(order + "I", data[offset + 2 + 12 * count:offset + 6 + 12 * count])
-    except struct.error:  # a directory past the end: the decoder says what is wrong
-        return 1
-    return 2 if 0 < following < len(data) else 1
+    except struct.error:
+        return None
+    return values, following
 
 
 def _jpeg_cut_short(data) -> bool:
@@ -260,19 +276,9 @@ def exif_orientation_bytes(data: bytes) -> int:
 
 def _tiff_orientation(tiff: bytes) -> int:
     """The Orientation of a TIFF structure's first directory (EXIF's IFD0), 1 when absent or damaged."""
-    order = {b"II*\x00": "<", b"MM\x00*": ">"}.get(tiff[:4])
-    try:
-        (offset,) = struct.unpack(order + "I", tiff[4:8])
-        (count,) = struct.unpack(order + "H", tiff[offset:offset + 2])
-        for index in range(count):
-            start = offset + 2 + 12 * index
-            tag, kind = struct.unpack(order + "HH", tiff[start:start + 4])
-            if tag == ORIENTATION_TAG and kind == 3:  # a SHORT held in the entry itself
-                (value,) = struct.unpack(order + "H", tiff[start + 8:start + 10])
-                return value if 1 <= value <= 8 else 1
-    except (TypeError, struct.error):  # not a TIFF structure, or one cut short
-        return 1
-    return 1
+    directory = _tiff_directory(tiff)
+    value = 1 if directory is None else directory[0].get(ORIENTATION_TAG, 1)
+    return value if 1 <= value <= 8 else 1
 
 
 def exr_channel_names(data) -> Optional[list[str]]:
@@ -315,20 +321,10 @@ def tiff_extra_sample_undeclared(data) -> bool:
     """True for a TIFF whose first directory holds a sample beyond its grey or RGB ones without saying
     what it is (no ExtraSamples tag, or 0 = unspecified): not an alpha by the TIFF rule, which Blender
     4.3 and 5.2 read as one all the same (Blender 3.4 does not). False for anything else."""
-    order = {b"II*\x00": "<", b"MM\x00*": ">"}.get(bytes(data[:4]))
-    if order is None:
+    directory = _tiff_directory(data)
+    if directory is None:
         return False
-    tags = {}
-    try:
-        (offset,) = struct.unpack(order + "I", data[4:8])
-        (count,) = struct.unpack(order + "H", data[offset:offset + 2])
-        for index in range(count):
-            start = offset + 2 + 12 * index
-            tag, kind = struct.unpack(order + "HH", data[start:start + 4])
-            if tag in (262, 277, 338) and kind == 3:  # PhotometricInterpretation, SamplesPerPixel, ExtraSamples
-                (tags[tag],) = struct.unpack(order + "H", data[start + 8:start + 10])
-    except struct.error:
-        return False
+    tags = directory[0]  # PhotometricInterpretation 262, SamplesPerPixel 277, ExtraSamples 338
     colour_samples = {0: 1, 1: 1, 2: 3}.get(tags.get(262))
     return colour_samples is not None and tags.get(277, 1) > colour_samples and tags.get(338, 0) == 0
 
