@@ -164,13 +164,16 @@ class CutOut:
         return self.outcome == CutOutOutcome.found
 
 
-def cut_out(image, options: Optional[CutOutOptions] = None, **overrides) -> CutOut:
+def cut_out(image, options: Optional[CutOutOptions] = None, *, progress: Optional[ProgressCallback] = None,
+            **overrides) -> CutOut:
     """Cuts an object out of a plain background: the mask :func:`reconstruct` uses for
     ``scene="object"`` when given no mask (its ``cut_out`` option).
 
     Args:
         image: (H, W) linear intensity or (H, W, 3) linear RGB, finite, >= 0, at least 2 x 2.
         options: a :class:`CutOutOptions`; None = the defaults.
+        progress: called as ``progress(fraction, "cut_out")`` after each round; returning False raises
+            :class:`Cancelled`. Without one, Ctrl+C stops the call.
         **overrides: its fields to change (``smoothness=20``).
 
     Returns:
@@ -191,7 +194,7 @@ def cut_out(image, options: Optional[CutOutOptions] = None, **overrides) -> CutO
                 raise TypeError(f"shadecut: unknown cut-out option '{name}'")
             setattr(copy, name, value)
         chosen = copy
-    mask, outcome, contrast, noise, share, message = _core.cut_out(_real(image), chosen)
+    mask, outcome, contrast, noise, share, message = _core.cut_out(_real(image), chosen, progress)
     return CutOut(mask=mask, outcome=outcome, outline_contrast=float(contrast), background_noise=float(noise),
                   border_share=float(share), message=message)
 

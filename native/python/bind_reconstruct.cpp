@@ -40,6 +40,24 @@ void bind_reconstruct_function(py::module_& m);
 
 }  // namespace
 
+// A call's progress: the caller's callback, or one that lets Ctrl+C through.
+ProgressCallback python_progress(const std::optional<py::function>& progress) {
+  if (progress) {
+    return [callback = *progress](double fraction, const std::string& stage) {
+      py::gil_scoped_acquire gil;
+      const py::object answer = callback(fraction, stage);
+      return answer.is_none() || PyObject_IsTrue(answer.ptr()) == 1;
+    };
+  }
+  // Python runs its Ctrl+C handler only between bytecodes, never during this call: without a
+  // callback of the caller's, whose Python code would run it, the reports ask for it here.
+  return [](double, const std::string&) {
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    return true;
+  };
+}
+
 void bind_reconstruct(py::module_& m) {
   bind_enum<Method>(m, "Method", "Reconstruction methods (docs/method.md)", method_names());
   bind_enum<Integrator>(m, "Integrator", "Normal integrators", integrator_names());
@@ -129,24 +147,6 @@ void bind_result(py::module_& m) {
       .def_readonly("stats", &Reconstruction::stats);
 
   m.attr("AMBIGUOUS_RESIDUAL_RATIO") = kAmbiguousResidualRatio;
-}
-
-// reconstruct()'s progress: the caller's callback, or one that lets Ctrl+C through.
-ProgressCallback python_progress(const std::optional<py::function>& progress) {
-  if (progress) {
-    return [callback = *progress](double fraction, const std::string& stage) {
-      py::gil_scoped_acquire gil;
-      const py::object answer = callback(fraction, stage);
-      return answer.is_none() || PyObject_IsTrue(answer.ptr()) == 1;
-    };
-  }
-  // Python runs its Ctrl+C handler only between bytecodes, never during this call: without a
-  // callback of the caller's, whose Python code would run it, the reports ask for it here.
-  return [](double, const std::string&) {
-    py::gil_scoped_acquire gil;
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-    return true;
-  };
 }
 
 void bind_reconstruct_function(py::module_& m) {

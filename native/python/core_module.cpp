@@ -34,25 +34,10 @@ using shadecut::ImageF;
 using shadecut::Mask;
 using shadecut::NormalMap;
 
-PYBIND11_MODULE(_core, m) {
-  m.doc() = "ShadeCut's compiled core; use the shadecut package, not this module.";
+namespace {
 
-  static py::exception<shadecut::Cancelled> cancelled(m, "Cancelled");
-  py::register_local_exception_translator(translate_core_error);
-  py::register_local_exception_translator([](std::exception_ptr error) {
-    try {
-      if (error) std::rethrow_exception(error);
-    } catch (const shadecut::Cancelled& e) {
-      cancelled(e.what());
-    }
-  });
-
-  bind_reconstruct(m);
-  // The add-on, which has no _imageio, refuses a file's header above the library's own limit.
-  m.attr("DEFAULT_MAX_PIXELS") = shadecut::kDefaultMaxPixels;
-  m.attr("METHODS") = py::tuple(py::cast(shadecut::method_names()));
-  m.attr("LIGHT_METHODS") = py::tuple(py::cast(shadecut::light_method_names()));
-
+// The light, the albedo and the paint, estimated from an image.
+void bind_light_and_albedo(py::module_& m) {
   m.def("estimate_light", [](const FloatArray& image, const std::optional<BoolArray>& mask, const std::string& method,
                              std::optional<double> albedo) {
     const ImageF img = to_image(image, "image");
@@ -80,6 +65,34 @@ PYBIND11_MODULE(_core, m) {
     return shadecut::estimate_albedo(img, mask_or_all(mask, img.rows(), img.cols()), shadecut::parse_albedo_method(method), top_fit);
   });
 
+  m.def("light_direction", [](const std::vector<double>& light) {
+    const Eigen::Vector3d direction = shadecut::LightFrame::from_direction(to_vector3(light, "light")).direction;
+    return py::array_t<double>(3, direction.data());
+  });
+
+  m.def("estimate_reflectance", [](const FloatArray& image, const std::optional<BoolArray>& mask,
+                                   const shadecut::ReconstructOptions& options, const std::optional<FloatArray>& shading) {
+    require_grey_or_colour(image);
+    std::optional<shadecut::ColourImage> colour;
+    if (image.ndim() == 3) colour = to_colour(image, "image");
+    const ImageF intensity = colour ? shadecut::luminance(*colour) : to_image(image, "image");
+    std::optional<ImageF> shading_image;
+    if (shading) shading_image = to_image(*shading, "shading");
+    const Mask pixels = mask_or_all(mask, intensity.rows(), intensity.cols());
+    ImageF relative;
+    {
+      py::gil_scoped_release release;
+      relative = shadecut::estimate_reflectance(intensity, colour ? &*colour : nullptr, pixels,
+                                                shadecut::reflectance_params(options), {},
+                                                shading_image ? &*shading_image : nullptr)
+                     .relative;
+    }
+    return from_image(relative);
+  });
+}
+
+// Normals, depth and meshes.
+void bind_geometry(py::module_& m) {
   m.def("normals_from_depth", [](const FloatArray& depth, const std::optional<BoolArray>& mask) {
     const ImageF z = to_image(depth, "depth map");
     return from_normals(shadecut::normals_from_depth(z, mask_or_all(mask, z.rows(), z.cols())));
@@ -117,6 +130,17 @@ PYBIND11_MODULE(_core, m) {
     return py::make_tuple(from_image(z), from_normals(n));
   });
 
+  m.def("height_field_mesh", [](const FloatArray& depth, const std::optional<BoolArray>& mask, int step) {
+    const ImageF z = to_image(depth, "depth map");
+    const shadecut::HeightFieldMesh mesh = shadecut::height_field_mesh(z, mask_or_all(mask, z.rows(), z.cols()), step);
+    return py::make_tuple(py::array_t<float>({mesh.vertices.rows(), Eigen::Index(3)}, mesh.vertices.data()),
+                          py::array_t<std::int32_t>({mesh.quads.rows(), Eigen::Index(4)}, mesh.quads.data()),
+                          py::array_t<float>({mesh.uvs.rows(), Eigen::Index(2)}, mesh.uvs.data()));
+  });
+}
+
+// Images, masks and their comparison.
+void bind_images(py::module_& m) {
   m.def("angular_error_map", [](const FloatArray& a, const FloatArray& b, const std::optional<BoolArray>& mask) {
     const NormalMap na = to_normals(a), nb = to_normals(b);
     return from_image(shadecut::angular_error_map(na, nb, mask_or_all(mask, na.rows, na.cols)));
@@ -149,19 +173,11 @@ PYBIND11_MODULE(_core, m) {
 
   m.def("srgb_to_linear", py::vectorize([](double encoded) { return shadecut::srgb_to_linear(encoded); }));
 
-  m.def("height_field_mesh", [](const FloatArray& depth, const std::optional<BoolArray>& mask, int step) {
-    const ImageF z = to_image(depth, "depth map");
-    const shadecut::HeightFieldMesh mesh = shadecut::height_field_mesh(z, mask_or_all(mask, z.rows(), z.cols()), step);
-    return py::make_tuple(py::array_t<float>({mesh.vertices.rows(), Eigen::Index(3)}, mesh.vertices.data()),
-                          py::array_t<std::int32_t>({mesh.quads.rows(), Eigen::Index(4)}, mesh.quads.data()),
-                          py::array_t<float>({mesh.uvs.rows(), Eigen::Index(2)}, mesh.uvs.data()));
-  });
+  m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });
+}
 
-  m.def("light_direction", [](const std::vector<double>& light) {
-    const Eigen::Vector3d direction = shadecut::LightFrame::from_direction(to_vector3(light, "light")).direction;
-    return py::array_t<double>(3, direction.data());
-  });
-
+// An object cut out of its background.
+void bind_cut_out(py::module_& m) {
   py::class_<shadecut::CutOutOptions>(m, "CutOutOptions", "The settings of cut_out() with their defaults (pipeline/cut_out.hpp).")
       .def(py::init<>())
       .def_readwrite("working_size", &shadecut::CutOutOptions::working_size)
@@ -173,44 +189,47 @@ PYBIND11_MODULE(_core, m) {
       .def_readwrite("min_area", &shadecut::CutOutOptions::min_area)
       .def_readwrite("min_outline_contrast", &shadecut::CutOutOptions::min_outline_contrast);
 
-  m.def("cut_out", [](const FloatArray& image, const shadecut::CutOutOptions& options) {
-    require_grey_or_colour(image);
-    shadecut::CutOut cut;
-    if (image.ndim() == 3) {
-      const shadecut::ColourImage colour = to_colour(image, "image");
-      for (const ImageF& channel : colour.channel)
-        if (channel.minCoeff() < 0.0f) throw shadecut::InvalidArgument("shadecut: the image has negative values; linear RGB is >= 0");
-      const ImageF intensity = shadecut::luminance(colour);
-      py::gil_scoped_release release;
-      cut = shadecut::cut_out(intensity, &colour, options);
-    } else {
-      const ImageF intensity = to_image(image, "image");
-      py::gil_scoped_release release;
-      cut = shadecut::cut_out(intensity, nullptr, options);
+  m.def(
+      "cut_out",
+      [](const FloatArray& image, const shadecut::CutOutOptions& options, const std::optional<py::function>& progress) {
+        require_grey_or_colour(image);
+        const shadecut::Progress reporter(python_progress(progress));
+        const shadecut::Observation photograph = image.ndim() == 3
+                                                     ? shadecut::colour_observation(to_colour(image, "image"), std::nullopt)
+                                                     : shadecut::grey_observation(to_image(image, "image"), std::nullopt);
+        shadecut::CutOut cut;
+        {
+          py::gil_scoped_release release;
+          cut = shadecut::cut_out(photograph.image, photograph.has_colour() ? &photograph.colour : nullptr, options, reporter);
+        }
+        return py::make_tuple(from_mask(cut.mask), cut.outcome, cut.outline_contrast, cut.background_noise, cut.border_share,
+                              cut.message);
+      },
+      py::arg("image"), py::arg("options"), py::arg("progress") = py::none());
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "ShadeCut's compiled core; use the shadecut package, not this module.";
+
+  static py::exception<shadecut::Cancelled> cancelled(m, "Cancelled");
+  py::register_local_exception_translator(translate_core_error);
+  py::register_local_exception_translator([](std::exception_ptr error) {
+    try {
+      if (error) std::rethrow_exception(error);
+    } catch (const shadecut::Cancelled& e) {
+      cancelled(e.what());
     }
-    return py::make_tuple(from_mask(cut.mask), cut.outcome, cut.outline_contrast, cut.background_noise, cut.border_share,
-                          cut.message);
   });
 
-  m.def("estimate_reflectance", [](const FloatArray& image, const std::optional<BoolArray>& mask,
-                                   const shadecut::ReconstructOptions& options, const std::optional<FloatArray>& shading) {
-    require_grey_or_colour(image);
-    std::optional<shadecut::ColourImage> colour;
-    if (image.ndim() == 3) colour = to_colour(image, "image");
-    const ImageF intensity = colour ? shadecut::luminance(*colour) : to_image(image, "image");
-    std::optional<ImageF> shading_image;
-    if (shading) shading_image = to_image(*shading, "shading");
-    const Mask pixels = mask_or_all(mask, intensity.rows(), intensity.cols());
-    ImageF relative;
-    {
-      py::gil_scoped_release release;
-      relative = shadecut::estimate_reflectance(intensity, colour ? &*colour : nullptr, pixels,
-                                                shadecut::reflectance_params(options), {},
-                                                shading_image ? &*shading_image : nullptr)
-                     .relative;
-    }
-    return from_image(relative);
-  });
-
-  m.def("erode_mask", [](const BoolArray& mask, int pixels) { return from_mask(shadecut::erode_mask(*to_mask(mask), pixels)); });
+  bind_reconstruct(m);
+  // The add-on, which has no _imageio, refuses a file's header above the library's own limit.
+  m.attr("DEFAULT_MAX_PIXELS") = shadecut::kDefaultMaxPixels;
+  m.attr("METHODS") = py::tuple(py::cast(shadecut::method_names()));
+  m.attr("LIGHT_METHODS") = py::tuple(py::cast(shadecut::light_method_names()));
+  bind_light_and_albedo(m);
+  bind_geometry(m);
+  bind_images(m);
+  bind_cut_out(m);
 }

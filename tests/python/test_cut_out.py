@@ -111,3 +111,19 @@ def test_real_photo_on_a_wooden_table_has_no_plain_background():
     # skimage's coffee: a cup on a grained wooden table that runs round the whole border.
     cut = shadecut.cut_out(linear(skimage_data().coffee()))
     assert cut.outcome == shadecut.CutOutOutcome.busy_border, cut.message
+
+
+def test_a_long_cut_out_reports_its_rounds_and_stops_when_told():
+    """cut_out(iterations=10**6) could not be stopped: it had no progress and ignored Ctrl+C (issue 48, 7)."""
+    sphere = synthetic.sphere((0.3, 0.4, 0.866), size=64, albedo=0.8)
+    photo = np.where(sphere.mask, sphere.image, 1.0)
+    seen = []
+
+    def stop_after_three(fraction, stage):
+        seen.append((fraction, stage))
+        return len(seen) < 3
+
+    with pytest.raises(shadecut.Cancelled):
+        shadecut.cut_out(photo, iterations=10**6, progress=stop_after_three)
+    assert len(seen) == 3 and {stage for _, stage in seen} == {"cut_out"}
+    assert [fraction for fraction, _ in seen] == sorted(fraction for fraction, _ in seen)

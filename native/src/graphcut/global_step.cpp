@@ -15,6 +15,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
+#include <string>
 #include <tuple>
 #include <utility>
 
@@ -245,6 +247,126 @@ void choose_lineage(const ImageF& image, const Mask& mask, const LightFrame& lig
   lineages.assign(1, std::move(kept));
 }
 
+// What every lineage of one level reads: the level's image and local shape, and the call's settings.
+struct Level {
+  const ImageF& image;
+  const Mask& mask;
+  const LightFrame& light;
+  double albedo;
+  const GlobalStepParams& params;
+  MaxFlowSolver& solver;
+  const Progress& progress;
+  std::map<std::string, double>& seconds;
+  const LocalShape& local;
+  const TiltEnergyParams& base_params;  // the energy's weights scaled to this level's object
+  double scale;                         // unary_scale of the level's mask
+  const Mask& coarse_mask;              // the coarser level's mask (empty at the coarsest level)
+};
+
+// Where a lineage's coarse labelling lets each pixel's labels go, held while its energy is built.
+// At a jump the band reaches the neighbours' coarse labels: a band around either side's own label
+// holds no label of the other side, so the boundary could never leave the coarse pixels' edges,
+// and every convex/concave boundary ended on the coarsest level's grid (issue 29). Reaching them, a
+// level can move it by a pixel, and the levels together anywhere in a coarsest pixel.
+struct CoarseBand {
+  std::vector<int> centre;
+  std::vector<int> band_centre;
+  std::vector<std::int16_t> band_span;
+  std::vector<std::uint8_t> at_jump, frozen;
+  std::vector<float> frozen_tilts;
+};
+
+// The band of `from` at this level, pointed to by `energy_params`.
+void restrict_to_band(const Level& level, const GlobalStepResult& from, CoarseBand& band, TiltEnergyParams& energy_params) {
+  const int rows = int(level.image.rows()), cols = int(level.image.cols());
+  const int labels = level.params.energy.labels;
+  band.centre = upsample_labels(from.labelling, level.coarse_mask, rows, cols);
+  band.at_jump = jump_pixels(band.centre, level.mask, labels);
+  std::tie(band.band_centre, band.band_span) = jump_windows(band.centre, band.at_jump, level.mask, labels);
+  energy_params.band_centre = &band.band_centre;
+  energy_params.band_span = &band.band_span;
+  if (level.params.band_radius >= 0) {
+    band.frozen = frozen_pixels(band.at_jump, rows, cols, level.params.band_radius);
+    energy_params.band_frozen = &band.frozen;
+    band.frozen_tilts = upsampled_tilts(from, level.coarse_mask, band.centre, band.frozen, level.light, labels, rows, cols);
+  }
+}
+
+// The counts and choices a lineage carries from its coarser level.
+void carry_from_coarser(const GlobalStepResult& from, GlobalStepResult& result) {
+  result.expansion.moves += from.expansion.moves;
+  result.expansion.accepted_moves += from.expansion.accepted_moves;
+  result.expansion.repaired_moves += from.expansion.repaired_moves;
+  result.expansion.maxflow_seconds += from.expansion.maxflow_seconds;
+  result.levels = from.levels + 1;
+  result.orientation_energy = from.orientation_energy;
+  result.inverted_energy = from.inverted_energy;
+  result.paper_residual = from.paper_residual;
+  result.pulled_residual = from.pulled_residual;
+  result.pulled_kept = from.pulled_kept;
+}
+
+// One lineage's labelling at this level, from its coarse labelling (none at the coarsest level),
+// with `reference` pulling the energy when given; its progress in [begin, end] of the level.
+GlobalStepResult solve_lineage(const Level& level, const GlobalStepResult* from, const NormalMap* reference, double begin,
+                               double end) {
+  GlobalStepResult result;
+  level.progress.report(begin, "energy");
+  Stopwatch stage;
+  TiltEnergyParams energy_params = level.base_params;
+  energy_params.band = level.params.band;
+  CoarseBand band;
+  if (from) restrict_to_band(level, *from, band, energy_params);
+  if (reference) {
+    energy_params.reference = reference;
+    energy_params.reference_weight = level.params.viscosity_weight * level.scale;
+  }
+  const TiltEnergy energy(level.local, level.light, level.mask, energy_params);
+  level.seconds["energy"] += stage.seconds();
+  level.progress.report(begin + 0.05 * (end - begin), "graphcut");
+  stage.restart();
+  if (from) {
+    result.labelling = start_from_centres(energy, band.centre);
+  } else {
+    result.labelling = energy.convex_labelling();
+    convexity_cut(energy, level.local, result.labelling, level.solver);
+  }
+  result.expansion = alpha_expansion(energy, result.labelling, level.solver, level.params.max_cycles, level.params.tolerance,
+                                     level.progress.range(begin + 0.05 * (end - begin), end));
+  result.allowed_label_fraction = double(energy.allowed_count()) / (double(level.mask.count()) * energy.labels());
+  level.seconds["graphcut"] += stage.seconds();
+  result.normals = labelling_normals(result.labelling, energy, level.local, level.light, level.params.refine,
+                                     band.frozen_tilts.empty() ? nullptr : &band.frozen_tilts);
+  if (from) {
+    carry_from_coarser(*from, result);
+  } else {
+    std::tie(result.orientation_energy, result.inverted_energy) =
+        orientation_energies(level.local, level.light, level.mask, level.base_params, result.labelling);
+  }
+  return result;
+}
+
+void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo,
+                 const GlobalStepParams& params, MaxFlowSolver& solver, Progress progress, bool finest,
+                 std::map<std::string, double>& seconds, Lineages& lineages);
+
+// The coarser levels solved into `coarse` (half resolution, and below it recursively) when coarse to
+// fine applies; returns their mask (empty when it does not) and narrows `progress` to this level's share.
+Mask solve_coarser(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo, const GlobalStepParams& params,
+                   MaxFlowSolver& solver, Progress& progress, std::map<std::string, double>& seconds, Lineages& coarse) {
+  if (params.band < 0 || object_size(mask) < 2.0 * params.coarsest_object_size) return {};
+  // A coarse pixel lies in the mask only when its whole block does.
+  auto [half_image, half_mask] = downsample(image, mask, 2, 1.0);
+  if (!half_mask.any()) return {};
+  solve_level(half_image, half_mask, light, albedo, params, solver, progress.range(0.0, kCoarseShare), false, seconds, coarse);
+  // Chosen at the finest level no larger than choice_object_size: finer levels rarely change
+  // which labelling explains the image better, and cost each lineage four times as much.
+  if (coarse.size() == 2 && object_size(mask) > params.choice_object_size)
+    choose_lineage(half_image, half_mask, light, albedo, params, false, seconds, coarse);
+  progress = progress.range(kCoarseShare, 1.0);
+  return std::move(half_mask);
+}
+
 // Solves one level (after the coarser ones, when there are any) into `lineages`, reporting progress
 // in [begin, end] of the whole step and adding each stage's seconds to `seconds`. `finest` is the
 // level the caller asked for: lineages still both alive there are chosen between there.
@@ -252,22 +374,7 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
                  const GlobalStepParams& params, MaxFlowSolver& solver, Progress progress, bool finest,
                  std::map<std::string, double>& seconds, Lineages& lineages) {
   Lineages coarse;
-  Mask coarse_mask;
-  if (params.band >= 0 && object_size(mask) >= 2.0 * params.coarsest_object_size) {
-    // A coarse pixel lies in the mask only when its whole block does.
-    auto [half_image, half_mask] = downsample(image, mask, 2, 1.0);
-    if (half_mask.any()) {
-      solve_level(half_image, half_mask, light, albedo, params, solver, progress.range(0.0, kCoarseShare), false, seconds,
-                  coarse);
-      // Chosen at the finest level no larger than choice_object_size: finer levels rarely change
-      // which labelling explains the image better, and cost each lineage four times as much.
-      if (coarse.size() == 2 && object_size(mask) > params.choice_object_size)
-        choose_lineage(half_image, half_mask, light, albedo, params, false, seconds, coarse);
-      coarse_mask = std::move(half_mask);
-      progress = progress.range(kCoarseShare, 1.0);
-    }
-  }
-
+  const Mask coarse_mask = solve_coarser(image, mask, light, albedo, params, solver, progress, seconds, coarse);
   progress.report(0.0, "local");
   Stopwatch stage;
   const LocalShape local = local_shape(image, mask, light, albedo, params.min_curvature);
@@ -276,92 +383,25 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
   const double scale = unary_scale(mask);
   base_params.data_weight *= scale;
   base_params.undefined_weight *= scale;
-
-  // One lineage's labelling at this level, from its coarse labelling (none at the coarsest level),
-  // with `reference` pulling the energy when given; its progress in [begin, end] of the level.
-  auto solve_lineage = [&](const GlobalStepResult* from, const NormalMap* reference, double begin, double end) {
-    GlobalStepResult result;
-    progress.report(begin, "energy");
-    stage.restart();
-    TiltEnergyParams energy_params = base_params;
-    energy_params.band = params.band;
-    std::vector<int> centre;
-    // At a jump the band reaches the neighbours' coarse labels: a band around either side's own label
-    // holds no label of the other side, so the boundary could never leave the coarse pixels' edges,
-    // and every convex/concave boundary ended on the coarsest level's grid (issue 29). Reaching them, a
-    // level can move it by a pixel, and the levels together anywhere in a coarsest pixel.
-    std::vector<int> band_centre;
-    std::vector<std::int16_t> band_span;
-    std::vector<std::uint8_t> at_jump, frozen;
-    std::vector<float> frozen_tilts;
-    if (from) {
-      centre = upsample_labels(from->labelling, coarse_mask, int(image.rows()), int(image.cols()));
-      at_jump = jump_pixels(centre, mask, params.energy.labels);
-      std::tie(band_centre, band_span) = jump_windows(centre, at_jump, mask, params.energy.labels);
-      energy_params.band_centre = &band_centre;
-      energy_params.band_span = &band_span;
-      if (params.band_radius >= 0) {
-        frozen = frozen_pixels(at_jump, int(image.rows()), int(image.cols()), params.band_radius);
-        energy_params.band_frozen = &frozen;
-        frozen_tilts = upsampled_tilts(*from, coarse_mask, centre, frozen, light, params.energy.labels, int(image.rows()),
-                                       int(image.cols()));
-      }
-    }
-    if (reference) {
-      energy_params.reference = reference;
-      energy_params.reference_weight = params.viscosity_weight * scale;
-    }
-    const TiltEnergy energy(local, light, mask, energy_params);
-    seconds["energy"] += stage.seconds();
-    progress.report(begin + 0.05 * (end - begin), "graphcut");
-    stage.restart();
-    if (from) {
-      result.labelling = start_from_centres(energy, centre);
-    } else {
-      result.labelling = energy.convex_labelling();
-      convexity_cut(energy, local, result.labelling, solver);
-    }
-    result.expansion = alpha_expansion(energy, result.labelling, solver, params.max_cycles, params.tolerance,
-                                       progress.range(begin + 0.05 * (end - begin), end));
-    result.allowed_label_fraction = double(energy.allowed_count()) / (double(mask.count()) * energy.labels());
-    seconds["graphcut"] += stage.seconds();
-    result.normals = labelling_normals(result.labelling, energy, local, light, params.refine,
-                                       frozen_tilts.empty() ? nullptr : &frozen_tilts);
-    if (from) {
-      result.expansion.moves += from->expansion.moves;
-      result.expansion.accepted_moves += from->expansion.accepted_moves;
-      result.expansion.repaired_moves += from->expansion.repaired_moves;
-      result.expansion.maxflow_seconds += from->expansion.maxflow_seconds;
-      result.levels = from->levels + 1;
-      result.orientation_energy = from->orientation_energy;
-      result.inverted_energy = from->inverted_energy;
-      result.paper_residual = from->paper_residual;
-      result.pulled_residual = from->pulled_residual;
-      result.pulled_kept = from->pulled_kept;
-    } else {
-      std::tie(result.orientation_energy, result.inverted_energy) =
-          orientation_energies(local, light, mask, base_params, result.labelling);
-    }
-    return result;
-  };
+  const Level level{image, mask, light, albedo, params, solver, progress, seconds, local, base_params, scale, coarse_mask};
 
   lineages.clear();
   if (!coarse.empty()) {
     const double share = 1.0 / double(coarse.size());
     for (std::size_t i = 0; i < coarse.size(); ++i)
-      lineages.push_back(solve_lineage(&coarse[i], nullptr, double(i) * share, double(i + 1) * share));
+      lineages.push_back(solve_lineage(level, &coarse[i], nullptr, double(i) * share, double(i + 1) * share));
   } else if (params.viscosity_weight > 0.0) {
-    lineages.push_back(solve_lineage(nullptr, nullptr, 0.0, 0.5));
+    lineages.push_back(solve_lineage(level, nullptr, nullptr, 0.0, 0.5));
     progress.report(0.5, "upwind");
     stage.restart();
     const NormalMap reference = normals_from_depth(upwind(image, mask, light, albedo, params.viscosity_rounds).depth, mask);
     seconds["upwind"] += stage.seconds();
-    lineages.push_back(solve_lineage(nullptr, &reference, 0.5, 1.0));
+    lineages.push_back(solve_lineage(level, nullptr, &reference, 0.5, 1.0));
     // The coarsest level's residuals can be within its coarse discretization's own error: a pulled
     // labelling that leads here is confirmed at a finer level, the paper's carried beside it.
     choose_lineage(image, mask, light, albedo, params, !finest, seconds, lineages);
   } else {
-    lineages.push_back(solve_lineage(nullptr, nullptr, 0.0, 1.0));
+    lineages.push_back(solve_lineage(level, nullptr, nullptr, 0.0, 1.0));
   }
   if (finest && lineages.size() == 2) choose_lineage(image, mask, light, albedo, params, false, seconds, lineages);
 }

@@ -331,6 +331,45 @@ void check_cut_out_options(const CutOutOptions& o) {
 
 std::string percent(double share) { return std::to_string(int(std::lround(100.0 * share))) + "%"; }
 
+// The object on the shrunk image: pixels unlike the background, joined into regions by GrabCut's
+// rounds (the background fitted again to what they leave), small parts dropped. `bg` ends as the
+// last round's background.
+Mask segment(const Planes& small, const CutOutOptions& options, const Progress& progress, MaxFlowSolver& solver,
+             Background& bg) {
+  Mask object = deviation(small, bg) >= float(kOutlier);
+  const double min_pixels = options.min_area * double(small.rows) * double(small.cols);
+  for (int round = 0; round < options.iterations && object.count() >= std::max(1.0, min_pixels); ++round) {
+    progress.report(double(round) / options.iterations, "cut_out");
+    std::vector<int> background_pixels;
+    for (int i = 0; i < int(object.size()); ++i)
+      if (!object.data()[i]) background_pixels.push_back(i);
+    if (round > 0 && !background_pixels.empty()) bg = fit_background(small, background_pixels);
+    object = fill_holes(label(small, bg, learn_object(small, object), options.smoothness, nullptr, solver));
+  }
+  return drop_small_parts(object, std::max(1.0, min_pixels));
+}
+
+// At full resolution (factor times the shrunk object's size), the pixels whose 3 x 3 neighbourhood of
+// shrunk pixels agrees keep its label (1 object, 0 background); the others (-1) are labelled again.
+std::vector<int8_t> agreed_labels(const Mask& object, int factor, int rows, int cols) {
+  std::vector<int8_t> fixed(std::size_t(rows) * std::size_t(cols), -1);
+  if (factor == 1) return fixed;
+  const int small_rows = int(object.rows()), small_cols = int(object.cols());
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const int sr = r / factor, sc = c / factor;
+      const bool label_here = object(sr, sc);
+      bool uniform = true;
+      for (int dr = -1; dr <= 1 && uniform; ++dr)
+        for (int dc = -1; dc <= 1 && uniform; ++dc) {
+          const int nr = std::clamp(sr + dr, 0, small_rows - 1), nc = std::clamp(sc + dc, 0, small_cols - 1);
+          uniform = object(nr, nc) == label_here;
+        }
+      if (uniform) fixed[std::size_t(r) * std::size_t(cols) + std::size_t(c)] = label_here ? 1 : 0;
+    }
+  return fixed;
+}
+
 }  // namespace
 
 const std::vector<std::string>& cut_out_outcome_names() {
@@ -340,7 +379,7 @@ const std::vector<std::string>& cut_out_outcome_names() {
 
 std::string to_string(CutOutOutcome outcome) { return cut_out_outcome_names().at(std::size_t(outcome)); }
 
-CutOut cut_out(const ImageF& intensity, const ColourImage* colour, const CutOutOptions& options) {
+CutOut cut_out(const ImageF& intensity, const ColourImage* colour, const CutOutOptions& options, const Progress& progress) {
   check_image(intensity);
   check_cut_out_options(options);
   if (colour && (colour->rows() != intensity.rows() || colour->cols() != intensity.cols()))
@@ -371,16 +410,7 @@ CutOut cut_out(const ImageF& intensity, const ColourImage* colour, const CutOutO
   }
 
   const auto solver = make_maxflow_solver();
-  Mask object = deviation(small, bg) >= float(kOutlier);
-  const double min_pixels = options.min_area * double(small.rows) * double(small.cols);
-  for (int round = 0; round < options.iterations && object.count() >= std::max(1.0, min_pixels); ++round) {
-    std::vector<int> background_pixels;
-    for (int i = 0; i < int(object.size()); ++i)
-      if (!object.data()[i]) background_pixels.push_back(i);
-    if (round > 0 && !background_pixels.empty()) bg = fit_background(small, background_pixels);
-    object = fill_holes(label(small, bg, learn_object(small, object), options.smoothness, nullptr, *solver));
-  }
-  object = drop_small_parts(object, std::max(1.0, min_pixels));
+  Mask object = segment(small, options, progress, *solver, bg);
   // Judged on the shrunk image, where a photograph's edge blurred over a few pixels is a step again.
   result.outline_contrast = outline_contrast(object, deviation(small, bg), shrink(normalized(intensity, colour, 1.0f), factor));
   if (object.count() == 0) {
@@ -392,21 +422,7 @@ CutOut cut_out(const ImageF& intensity, const ColourImage* colour, const CutOutO
   // Full resolution: pixels whose 3 x 3 neighbourhood of shrunk pixels agrees keep its label; the
   // band along the outline is labelled again with the same models.
   const Histogram model = learn_object(small, object);
-  std::vector<int8_t> fixed(std::size_t(full.rows) * std::size_t(full.cols), -1);
-  if (factor > 1) {
-    for (int r = 0; r < full.rows; ++r)
-      for (int c = 0; c < full.cols; ++c) {
-        const int sr = r / factor, sc = c / factor;
-        const bool label_here = object(sr, sc);
-        bool uniform = true;
-        for (int dr = -1; dr <= 1 && uniform; ++dr)
-          for (int dc = -1; dc <= 1 && uniform; ++dc) {
-            const int nr = std::clamp(sr + dr, 0, small.rows - 1), nc = std::clamp(sc + dc, 0, small.cols - 1);
-            uniform = object(nr, nc) == label_here;
-          }
-        if (uniform) fixed[std::size_t(r) * std::size_t(full.cols) + std::size_t(c)] = label_here ? 1 : 0;
-      }
-  }
+  const std::vector<int8_t> fixed = agreed_labels(object, factor, full.rows, full.cols);
   Mask fine = label(full, bg, model, options.smoothness, &fixed, *solver);
   fine = drop_small_parts(fill_holes(fine), std::max(1.0, options.min_area * double(full.rows) * double(full.cols)));
   result.mask = fine;

@@ -18,7 +18,8 @@ Reconstruction reconstruct_cut_out(const ImageF& image, const ColourImage* colou
   // The options and the memory first: a call refused for its size is refused at once, not after the cut.
   detail::check_options(options, Mask::Constant(image.rows(), image.cols(), true));
   const Stopwatch stopwatch;
-  const CutOut cut = cut_out(image, colour);
+  // The cut-out reports as the call's start, so that a cancel reaches it too.
+  const CutOut cut = cut_out(image, colour, CutOutOptions{}, Progress(options.progress).range(0.0, 0.0));
   const double seconds = stopwatch.seconds();
   Reconstruction result = detail::reconstruct_painted(image, colour, light, cut.outcome == CutOutOutcome::Found ? &cut.mask : nullptr,
                                                       albedo, options);

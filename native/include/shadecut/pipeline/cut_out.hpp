@@ -3,6 +3,7 @@
 // command-line tool show as the mask used.
 #pragma once
 
+#include <shadecut/support/progress.hpp>
 #include <shadecut/support/types.hpp>
 
 #include <string>
@@ -71,7 +72,9 @@ struct CutOut {
 /// @param[in] intensity H x W linear intensity, >= 0, finite, at least 2 x 2.
 /// @param[in] colour    H x W x 3 linear RGB of the same image, or nullptr for a grey one.
 /// @param[in] options   the settings.
-/// @throws InvalidArgument for a bad image or options.
-CutOut cut_out(const ImageF& intensity, const ColourImage* colour, const CutOutOptions& options = {});
+/// @param[in] progress  told the share of the rounds done ("cut_out"); its callback returning false cancels.
+/// @throws InvalidArgument for a bad image or options, Cancelled when the progress callback says so.
+CutOut cut_out(const ImageF& intensity, const ColourImage* colour, const CutOutOptions& options = {},
+               const Progress& progress = {});
 
 }  // namespace shadecut

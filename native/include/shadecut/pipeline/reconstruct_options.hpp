@@ -76,7 +76,7 @@ struct ReconstructOptions {
   double paint_line_contrast = 2.0;
   // Runtime
   int threads = 0;
-  /// Told the fraction of the call done and the stage: "light" (estimating it), "local", "energy",
+  /// Told the fraction of the call done and the stage: "cut_out", "light" (estimating it), "local", "energy",
   /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading". Returning false cancels.
   ProgressCallback progress;
 };
