@@ -19,7 +19,8 @@ from .inputs import EvaluationError, check_methods, prepare_output, read_manifes
 from .metrics import (ERODE_PIXELS, GRID_PERIODS, METRICS, THRESHOLDS, depth_errors, grid_step_ratio, light_error,
                       mask_parts, normal_errors)
 from .real import FLAT, evaluate_object, evaluate_real, find_objects, flat_record, import_objects
-from .report import CSV_COLUMNS, method_table, real_table, shape_table, summarize, write_results
+from .report import CSV_COLUMNS, method_table, real_table, shape_table, write_results
+from .summary import summarize
 from .runner import PAPER_LIGHT, Evaluation, SampleResult, evaluate_dataset, evaluate_sample, paper_experiment
 
 __all__ = [

@@ -22,7 +22,7 @@ from ..file_kinds import read_text
 from .figures import save_strip
 from .inputs import EvaluationError, read_manifest
 from .metrics import ERODE_PIXELS, normal_errors
-from .report import _aggregate, summarize
+from .summary import aggregate, summarize
 from .runner import _progress_line, _record, evaluate_sample
 
 FLAT = "flat plane"
@@ -163,7 +163,7 @@ def evaluate_object(dataset_dir: os.PathLike | str, methods: Sequence[str], *, o
                 title = f"{sample_id} ({light} light" + (f", {estimator})" if light_method else ")")
                 save_strip(path, title, cut, cut_results, [flat] + result.records)
                 figures.append(path)
-    summary = {"flat": _aggregate([r for r in records if r["method"] == FLAT])}
+    summary = {"flat": aggregate([r for r in records if r["method"] == FLAT])}
     summary.update({light: summarize([r for r in records if r["light"] == light]) for light in LIGHTS})
     return {"dataset": str(dataset_dir), "samples": samples, "records": records, "summary": summary,
             "figures": [str(path) for path in figures]}

@@ -18,7 +18,7 @@ from .. import dataset as _dataset
 from .figures import save_strip
 from .inputs import read_manifest
 from .metrics import ERODE_PIXELS, METRICS, depth_errors, light_error, normal_errors
-from .report import summarize
+from .summary import summarize
 
 PAPER_LIGHT = (1.0, 0.0, 1.0)  # the paper's experiment: Mozart lit from the right-front
 

@@ -1,7 +1,7 @@
 #include "estimate/estimate_relief_light.hpp"
 
 #include <shadecut/support/errors.hpp>
-#include <shadecut/pipeline/relief.hpp>
+#include <shadecut/estimate/relief_albedo.hpp>
 
 #include "integrate/fourier.hpp"
 

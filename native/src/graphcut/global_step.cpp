@@ -3,7 +3,7 @@
 #include <shadecut/graphcut/convexity_cut.hpp>
 #include <shadecut/support/downsample.hpp>
 #include <shadecut/support/render.hpp>
-#include <shadecut/pipeline/shadow_fill.hpp>
+#include <shadecut/integrate/shadow_fill.hpp>
 #include <shadecut/integrate/surface_from_normals.hpp>
 #include <shadecut/baselines/upwind.hpp>
 

@@ -1,7 +1,7 @@
 #include <shadecut/integrate/surface_from_normals.hpp>
 
 #include <shadecut/support/render.hpp>
-#include <shadecut/pipeline/shadow_fill.hpp>
+#include <shadecut/integrate/shadow_fill.hpp>
 
 #include <utility>
 

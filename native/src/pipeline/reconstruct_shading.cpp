@@ -2,7 +2,7 @@
 
 #include <shadecut/integrate/surface_from_normals.hpp>
 #include <shadecut/pipeline/relief.hpp>
-#include <shadecut/pipeline/shadow_fill.hpp>
+#include <shadecut/integrate/shadow_fill.hpp>
 #include <shadecut/pipeline/stage_params.hpp>
 #include <shadecut/refine/fit_shading.hpp>
 #include <shadecut/support/errors.hpp>

@@ -4,7 +4,7 @@
 #include <shadecut/estimate/estimate_albedo.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/pipeline/relief.hpp>
-#include <shadecut/pipeline/shadow_fill.hpp>
+#include <shadecut/integrate/shadow_fill.hpp>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>

@@ -4,7 +4,7 @@
 #include <shadecut/support/errors.hpp>
 #include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/render.hpp>
-#include <shadecut/pipeline/shadow_fill.hpp>
+#include <shadecut/integrate/shadow_fill.hpp>
 
 #include <gtest/gtest.h>
 

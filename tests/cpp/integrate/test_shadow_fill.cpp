@@ -1,6 +1,6 @@
 #include "test_support.hpp"
 
-#include <shadecut/pipeline/shadow_fill.hpp>
+#include <shadecut/integrate/shadow_fill.hpp>
 #include <shadecut/support/angular_error.hpp>
 
 #include "support/contour.hpp"

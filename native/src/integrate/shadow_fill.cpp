@@ -1,4 +1,4 @@
-#include <shadecut/pipeline/shadow_fill.hpp>
+#include <shadecut/integrate/shadow_fill.hpp>
 
 #include <shadecut/support/mask_components.hpp>
 
