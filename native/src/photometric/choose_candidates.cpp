@@ -181,6 +181,11 @@ CandidateCutResult choose_candidates(const NormalCandidates& candidates, const C
   const int labels = int(candidates.normals.size());
   std::vector<int> choice = energy.cheapest();
   const double initial = energy.total(choice);
+  if ((candidates.count <= 1).all()) {  // nothing to choose
+    CandidateCutResult result = chosen_normals(candidates, choice);
+    result.initial_energy = result.energy = initial;
+    return result;
+  }
   double current = initial;
   std::unique_ptr<MaxFlowSolver> solver = make_maxflow_solver();
   GridGraph graph;

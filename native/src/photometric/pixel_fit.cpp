@@ -127,9 +127,9 @@ PixelFit PixelFitter::fit(const std::vector<ImageF>& images, const std::vector<M
   for (int pass = 0; pass < kShadowPasses && used_.size() >= 3; ++pass) {
     solved = solve(used_, scaled);
     if (!solved) break;
-    const std::vector<int> before = used_;
+    previous_.assign(used_.begin(), used_.end());
     select_lit(shadow_fraction_ * scaled.norm());
-    if (used_ == before) break;
+    if (used_ == previous_) break;
     solved = false;
   }
   if (used_.size() >= 3 && !solved) solved = solve(used_, scaled);

@@ -44,7 +44,7 @@ class PixelFitter {
   const std::vector<Eigen::Vector3d>& lights_;
   double shadow_fraction_, outlier_tolerance_;
   std::vector<double> intensity_;
-  std::vector<int> available_, used_, trial_;
+  std::vector<int> available_, used_, previous_, trial_;
 };
 
 /// Fills result.first_candidate, second_candidate and albedo at the pixels where pairs[p].a >= 0,

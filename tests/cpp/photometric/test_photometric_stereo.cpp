@@ -175,6 +175,23 @@ TEST(PhotometricStereo, ClippedPixelsAreNeverUsed) {
   EXPECT_LT(degrees_between(result.normals.xyz.row(32 * 64 + 32), scene.normals.xyz.row(32 * 64 + 32)), 0.02);
 }
 
+TEST(PhotometricStereo, ReportsProgressAndStopsWhenTheCallerCancels) {
+  const auto scene = testing::sphere_scene(160, 0.45, {0, 0, 1});
+  const LightDirections lights = lights_around(4, 40.0, 90.0, 90.0);
+  const auto images = photographs(scene, lights, ImageF::Constant(160, 160, 1.0f));
+  std::vector<double> fractions;
+  photometric_stereo(images, lights, scene.mask, {}, {}, Progress([&](double fraction, const std::string& stage) {
+                       EXPECT_EQ(stage, "photometric stereo");
+                       fractions.push_back(fraction);
+                       return true;
+                     }));
+  ASSERT_GE(fractions.size(), 2u);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+  EXPECT_THROW(photometric_stereo(images, lights, scene.mask, {}, {}, Progress([](double, const std::string&) { return false; })),
+               Cancelled);
+}
+
 TEST(PhotometricStereo, RefusesBadInput) {
   const auto scene = testing::sphere_scene(32, 0.45, {0, 0, 1});
   const LightDirections lights = lights_around(3, 40.0, 90.0, 120.0);
