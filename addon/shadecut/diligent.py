@@ -22,6 +22,7 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterable, Optional, Union
 
@@ -151,6 +152,42 @@ def read_normals(path: Path, shape: tuple) -> np.ndarray:
                          f"({np.asarray(normals).dtype}); the mask is {shape}, so numbers of shape (H, W, 3) = "
                          f"{(*shape, 3)} were expected")
     return np.nan_to_num(np.asarray(normals, dtype=np.float32))
+
+
+@dataclass
+class DiligentObject:
+    """One object's photographs with their calibrated lights, cropped to its mask with a margin."""
+
+    names: list  # the photographs' file names
+    photos: list  # (H, W, 3) float32 linear RGB, each channel divided by that photograph's light intensity
+    lights: np.ndarray  # (K, 3) unit vectors toward each photograph's light, camera frame
+    mask: np.ndarray  # (H, W) bool
+    normals: np.ndarray  # (H, W, 3) float32 measured normals, 0 outside the mask
+
+
+def load_object(source: Union[os.PathLike, str], images: Optional[Iterable[Union[int, str]]] = None,
+                margin: int = 8) -> DiligentObject:
+    """The photographs (numbers such as 7 or names such as "007.png"; None = every one present) of a
+    DiLiGenT object folder, with their lights, mask and normals, cropped to the mask plus ``margin``
+    pixels: what a reconstruction of several photographs, or of each, reads."""
+    source = Path(source)
+    layout = read_layout(source)
+    names = _select(layout, images, source)
+    mask = dataset_files.read_image_channels(source / "mask.png")[0][..., 0] > 0.5
+    normals = read_normals(source / "Normal_gt.mat", mask.shape)
+    rows, cols = np.nonzero(mask)
+    if rows.size == 0:
+        raise ValueError(f"shadecut: {source / 'mask.png'} selects no pixel")
+    crop = np.s_[max(rows.min() - margin, 0):rows.max() + margin + 1, max(cols.min() - margin, 0):cols.max() + margin + 1]
+    photos = []
+    for name in names:
+        pixels, channels = dataset_files.read_image_channels(source / name)
+        if pixels.shape[-1] < 3:
+            raise ValueError(f"shadecut: {source / name} has channels {channels}; DiLiGenT's photographs are RGB")
+        intensity = layout["intensities"][layout["names"].index(name)]
+        photos.append((pixels[..., :3] / intensity)[crop].astype(np.float32))
+    lights = np.array([layout["lights"][layout["names"].index(name)] for name in names], dtype=np.float64)
+    return DiligentObject(names=names, photos=photos, lights=lights, mask=mask[crop], normals=normals[crop])
 
 
 def read_photo(source: Union[os.PathLike, str], name: str, intensity) -> np.ndarray:

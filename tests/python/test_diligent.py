@@ -260,3 +260,21 @@ def test_each_module_imports_first(module):
                                 "assert d.import_diligent.__module__ == 'shadecut.diligent'"],
                                capture_output=True, text=True, env={"PYTHONPATH": str(addon)}, timeout=60)
     assert completed.returncode == 0, completed.stderr
+
+
+def test_load_object_reads_the_chosen_photographs_with_their_lights():
+    """One loader serves the tests and the measurements: photographs by number, cropped to the mask."""
+    from shadecut import diligent
+
+    folder = Path(__file__).resolve().parents[3] / "shared" / "data" / "diligent" / "ballPNG"
+    if not folder.is_dir():
+        pytest.skip(f"DiLiGenT is not at {folder.parent}")
+    ball = diligent.load_object(folder, images=[85, 7])
+    layout = diligent.read_layout(folder)
+    assert ball.names == ["085.png", "007.png"]
+    np.testing.assert_array_equal(ball.lights, [layout["lights"][layout["names"].index(n)] for n in ball.names])
+    assert ball.photos[0].shape == (*ball.mask.shape, 3) and ball.normals.shape == (*ball.mask.shape, 3)
+    rows, cols = np.nonzero(ball.mask)
+    assert rows.min() == 8 and cols.min() == 8  # the margin around the mask
+    with pytest.raises(ValueError, match="no image 999"):
+        diligent.load_object(folder, images=[999])

@@ -165,25 +165,16 @@ def test_the_cli_reconstructs_a_colour_photo_and_writes_its_albedo(tmp_path):
     np.testing.assert_allclose(albedo.colour[scene.mask], direct.albedo_colour[scene.mask], rtol=1e-5, atol=1e-6)
 
 
-def diligent_photos(name: str, every: int = 1):
-    """(colour photographs / light intensity (H, W, 3), calibrated lights, mask, true normals) of one
-    DiLiGenT object, cropped to the mask; skipped where the data is absent."""
+def diligent_photos(name: str):
+    """[(colour photograph / light intensity (H, W, 3), calibrated light)], mask and true normals of
+    one DiLiGenT object, cropped to the mask (shadecut.diligent.load_object); skipped where absent."""
     from shadecut import diligent
 
     folder = DILIGENT / f"{name}PNG"
     if not folder.is_dir():
         pytest.skip(f"DiLiGenT is not at {DILIGENT} (expects {name}PNG/ there in the benchmark's layout)")
-    layout = diligent.read_layout(folder)
-    mask = shadecut.load_image(folder / "mask.png").image > 0.5
-    normals = diligent.read_normals(folder / "Normal_gt.mat", mask.shape)
-    rows, cols = np.nonzero(mask)
-    crop = np.s_[rows.min() - 8:rows.max() + 9, cols.min() - 8:cols.max() + 9]
-    photos = []
-    for photo in layout["present"][::every]:
-        index = layout["names"].index(photo)
-        rgb = shadecut.load_image(folder / photo, color_space="linear").colour / layout["intensities"][index]
-        photos.append((rgb[crop].astype(np.float32), layout["lights"][index]))
-    return photos, mask[crop], normals[crop]
+    loaded = diligent.load_object(folder)
+    return list(zip(loaded.photos, loaded.lights)), loaded.mask, loaded.normals
 
 
 def diligent_errors(name: str, **options) -> tuple[float, float]:
