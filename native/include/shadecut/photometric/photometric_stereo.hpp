@@ -36,9 +36,9 @@ struct PhotometricStereoParams {
   /// photographs are usable; where there are none, the smallest uniform albedo that is consistent
   /// with all but one percent of the two-photograph pixels (kTwoLightAlbedoQuantile).
   double albedo = 0.0;
-  /// Empty, or H x W: per pixel, the albedo the two candidates assume (> 0 where two photographs are
-  /// usable), in place of `albedo` (an albedo known from elsewhere: another set of photographs, a
-  /// painted reference).
+  /// Empty, or H x W finite: per pixel, the albedo the two candidates assume, in place of `albedo`
+  /// (an albedo known from elsewhere: another set of photographs, a painted reference); where it is
+  /// <= 0 the uniform estimate that `albedo` = 0 describes.
   ImageF albedo_map;
   int threads = 0;  ///< threads of the per-pixel fits; 0 = all cores
 };
@@ -54,7 +54,7 @@ struct PhotometricStereoResult {
   /// 0 elsewhere. Same units as the images' intensity.
   ImageF albedo;
   /// H x W: RMS over the usable photographs of (intensity - albedo n . S), intensity units; 0 where
-  /// fewer than four photographs are usable (the fit is exact there).
+  /// fewer than three are usable, rounding error where three are (the fit is exact).
   ImageF residual;
   /// H x W: the photographs used at each pixel, after shadows, clipped pixels and outliers were left
   /// out; 0 outside the mask.
