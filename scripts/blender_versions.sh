@@ -13,9 +13,11 @@ CHROOTS=${SHADECUT_CHROOTS:-/var/cache/shadecut}
 # The archive this machine installs from, so that no other source is needed.
 MIRROR=${SHADECUT_MIRROR:-$(cat /etc/apt/sources.list /etc/apt/sources.list.d/*.sources 2>/dev/null \
   | grep -oE '^(URIs:|deb) +https?://[^ ]+/debian/?( |$)' | head -n1 | grep -oE 'https?://[^ ]+' || true)}
-# What the Blender suite needs inside the chroot: the build of the Python modules and the suite's imports.
+# What the Blender suite needs inside the chroot: the build of the Python modules and the suite's imports;
+# python3-cattr and python3-requests for Blender 5's own extensions add-on, which Debian's package does not
+# pull in (without them every start prints its traceback).
 PACKAGES=(
-  blender xvfb xauth
+  blender xvfb xauth python3-cattr python3-requests
   cmake g++ make pkg-config python3-dev pybind11-dev libeigen3-dev libopenimageio-dev
   python3-numpy python3-pytest python3-openimageio python3-matplotlib python3-scipy
 )
@@ -26,6 +28,7 @@ ensure_chroot() {
   local suite=$1 root=$CHROOTS/chroot-$1
   if [[ -f $root/.shadecut-ready ]]; then
     echo "blender_versions: reusing $root"
+    install_packages "$root"
     return
   fi
   [[ -n $MIRROR ]] || { echo "blender_versions: no Debian archive in /etc/apt; set SHADECUT_MIRROR" >&2; exit 1; }
@@ -35,11 +38,22 @@ ensure_chroot() {
   echo "blender_versions: creating $root from $MIRROR (debootstrap $suite)"
   nice debootstrap --variant=minbase "$suite" "$root.partial" "$MIRROR" >"$CHROOTS/debootstrap-$suite.log" 2>&1 \
     || { tail -n 20 "$CHROOTS/debootstrap-$suite.log" >&2; exit 1; }
-  # Check-Valid-Until off: sid's Release expires within days, and the archive may be a dated snapshot.
-  with_mounts "$root.partial" bash -c "apt-get -o Acquire::Check-Valid-Until=false update -qq && DEBIAN_FRONTEND=noninteractive \
-    nice apt-get install -y -qq --no-install-recommends ${PACKAGES[*]} >/dev/null"
+  install_packages "$root.partial"
   touch "$root.partial/.shadecut-ready"
   mv "$root.partial" "$root"
+}
+
+# The packages the chroot lacks (all of them at first; a package added to PACKAGES later), installed.
+install_packages() {
+  local root=$1 missing=() package
+  for package in "${PACKAGES[@]}"; do
+    chroot "$root" dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+  done
+  ((${#missing[@]})) || return 0
+  echo "blender_versions: installing ${missing[*]} in $root"
+  # Check-Valid-Until off: sid's Release expires within days, and the archive may be a dated snapshot.
+  with_mounts "$root" bash -c "apt-get -o Acquire::Check-Valid-Until=false update -qq && DEBIAN_FRONTEND=noninteractive \
+    nice apt-get install -y -qq --no-install-recommends ${missing[*]} >/dev/null"
 }
 
 # Runs a command in the chroot with /proc, /dev and /sys mounted, unmounting them whatever happens.
@@ -55,11 +69,12 @@ with_mounts() {
 }
 
 # The working tree's files (tracked, and new ones not ignored) copied afresh into the chroot, so that
-# nothing built there lands in this repository's addon/ folder.
+# nothing built there lands in this repository's addon/ folder. The copy's build/ folder is kept and tar
+# keeps the files' times, so a later run recompiles only what changed.
 copy_repository() {
   local target=$1/work/shadecut
-  rm -rf "$target"
   mkdir -p "$target"
+  find "$target" -mindepth 1 -maxdepth 1 ! -name build -exec rm -rf {} +
   git -C "$REPO" ls-files -z --cached --others --exclude-standard \
     | (cd "$REPO" && xargs -0 ls -d 2>/dev/null | tar -cf - -T -) | tar -xf - -C "$target"
 }

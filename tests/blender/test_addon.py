@@ -10,6 +10,7 @@ from mathutils import Euler, Vector
 import shadecut
 from shadecut import imaging, synthetic
 from shadecut.blender import frames, image_input, reconstruct_job
+from shadecut.blender.lambertian_scene import diffuse_material
 from shadecut import vertex_step
 
 LIGHT = (1.0, 0.0, 1.0)
@@ -284,6 +285,8 @@ def brightest_normal_in_cycles(tmp_path, size=64):
     scene = bpy.context.scene
     bpy.ops.mesh.primitive_uv_sphere_add(segments=96, ring_count=48)
     bpy.ops.object.shade_smooth()
+    # Lambertian by its material: without one, Blender 5 renders a glossy default surface.
+    bpy.context.active_object.data.materials.append(diffuse_material("Lambert", colour=(0.8, 0.8, 0.8, 1.0)))
     camera = bpy.data.objects.new("Top", bpy.data.cameras.new("Top"))
     camera.data.type, camera.data.ortho_scale, camera.location = "ORTHO", 2.0, (0, 0, 5)
     scene.collection.objects.link(camera)

@@ -64,6 +64,20 @@ def eevee_engine() -> str:
     return eevee[0]
 
 
+def set_multilayer_exr(image_settings) -> None:
+    """Multilayer OpenEXR output in one part: the file format OPEN_EXR_MULTILAYER, which Blender 5.0+
+    offers only once the media type (a setting older Blenders lack) is MULTI_LAYER_IMAGE, and there
+    the interleaved layout, since 5.0 writes each pass as a part of its own otherwise."""
+    if "media_type" in image_settings.bl_rna.properties:
+        image_settings.media_type = "MULTI_LAYER_IMAGE"
+    if "use_exr_interleave" in image_settings.bl_rna.properties:
+        image_settings.use_exr_interleave = True
+    try:
+        image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    except TypeError as error:  # how bpy refuses an enum value
+        raise MissingCapability(f"this Blender ({bpy.app.version_string}) writes no multilayer OpenEXR: {error}") from None
+
+
 def colour_space_names() -> list[str]:
     """The colour spaces an image can be set to in this Blender, as its Color Space menu lists them."""
     settings = bpy.types.ColorManagedInputColorspaceSettings.bl_rna.properties["name"]

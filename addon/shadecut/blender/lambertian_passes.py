@@ -127,9 +127,17 @@ def assemble(passes, light_vector, camera_matrix, lens, resolution, albedo, shad
                             albedo_map=albedo_map)
 
 
+# The names Cycles gives a pass in the EXR, by Blender version: short before 5.0, spelt out since.
+PASS_NAMES = {"DiffCol": ("DiffCol", "Diffuse Color"), "DiffDir": ("DiffDir", "Diffuse Direct")}
+
+
 def _channels(passes: dict, name: str, channels: str) -> np.ndarray:
     """One pass as an (H, W, len(channels)) array, e.g. ``_channels(passes, "Normal", "XYZ")``."""
-    return np.dstack([passes[f"{name}.{c}"] for c in channels])
+    for spelling in PASS_NAMES.get(name, (name,)):
+        if f"{spelling}.{channels[0]}" in passes:
+            return np.dstack([passes[f"{spelling}.{c}"] for c in channels])
+    raise RenderError(f"Cycles wrote no {' or '.join(PASS_NAMES.get(name, (name,)))} pass "
+                      f"(the file has {sorted({key.rsplit('.', 1)[0] for key in passes})})")
 
 
 def _camera_frame_truth(passes: dict, camera_matrix: Matrix) -> tuple[np.ndarray, ...]:
