@@ -76,6 +76,17 @@ void check_inputs(const std::vector<ImageF>& images, const LightDirections& ligh
                             " does not have the photographs' size");
 }
 
+}  // namespace
+
+std::vector<Eigen::Vector3d> detail::checked_photometric_input(const std::vector<ImageF>& images,
+                                                               const LightDirections& lights, const Mask& mask,
+                                                               const std::vector<Mask>& clipped) {
+  check_inputs(images, lights, mask, clipped);
+  return checked_lights(lights);
+}
+
+namespace {
+
 PhotometricStereoResult empty_result(int rows, int cols) {
   PhotometricStereoResult result;
   result.normals = NormalMap(rows, cols);
@@ -125,9 +136,8 @@ void fit_pixels(const std::vector<ImageF>& images, const std::vector<Eigen::Vect
 PhotometricStereoResult photometric_stereo(const std::vector<ImageF>& images, const LightDirections& lights,
                                            const Mask& mask, const std::vector<Mask>& clipped,
                                            const PhotometricStereoParams& params, const Progress& progress) {
-  check_inputs(images, lights, mask, clipped);
+  const std::vector<Eigen::Vector3d> unit = detail::checked_photometric_input(images, lights, mask, clipped);
   check_params(params, mask);
-  const std::vector<Eigen::Vector3d> unit = checked_lights(lights);
   const int rows = int(mask.rows()), cols = int(mask.cols());
   PhotometricStereoResult result = empty_result(rows, cols);
   std::vector<detail::UsablePair> pairs;
