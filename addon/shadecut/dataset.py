@@ -45,7 +45,8 @@ from .api import light_direction, load_image
 from .file_kinds import read_text
 # Part of this module's interface, written where they are built.
 from .dataset_files import (CONVENTIONS, FORMAT, MANIFEST_CSV, MANIFEST_JSON, META, VERSION,  # noqa: F401
-                            pixel_size, read_image_channels, write_manifest, write_sample)
+                            SAMPLE_CHANNELS, pixel_size, read_image_channels, write_manifest,
+                            write_sample)
 from .diligent import import_diligent  # noqa: F401
 
 
@@ -83,9 +84,6 @@ def is_sample(folder) -> bool:
     return (Path(folder) / META).is_file()
 
 
-# Channels each image file of a sample must hold (check_sample).
-_CHANNELS = {"image.exr": ["Y"], "image.png": ["Y"], "normals.exr": ["R", "G", "B"], "depth.exr": [],
-             "mask.png": [], "shadow_mask.png": [], "albedo.exr": ["Y"]}
 # save_depth's channel, then the one it wrote before (Z, which Blender loads as black): samples
 # already rendered and cached keep loading.
 DEPTH_CHANNELS = ("Y", "Z")
@@ -135,7 +133,7 @@ def check_sample(folder) -> Optional[str]:
             return f"{path} is unreadable ({error})"
         if [pixels.shape[1], pixels.shape[0]] != resolution:
             return f"{path} is {pixels.shape[1]} x {pixels.shape[0]} pixels, not {resolution[0]} x {resolution[1]}"
-        missing = [c for c in _CHANNELS.get(str(name), []) if c not in channels]
+        missing = [c for c in SAMPLE_CHANNELS.get(str(name), []) if c not in channels]
         if missing:
             return f"{path} has no channel {missing[0]} (it has {channels})"
         if name == "depth.exr" and _depth_channel(pixels, channels) is None:

@@ -103,7 +103,8 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
     ``depth`` is camera-frame z in scene units; ``meta`` must hold ``pixel_size`` (scene units per
     pixel) so that readers convert it to pixel units. ``depth`` None = unknown: no depth.exr.
     ``albedo`` None = unknown (stored as null). ``light`` is stored normalized. An existing
-    folder of the same name is replaced. The files are written into a hidden folder of this call's
+    sample (or empty folder) of the same name is replaced; anything else of that name is refused
+    (OSError) before any work. The files are written into a hidden folder of this call's
     own beside the folder (``.<name>.<pid>-<random>.partial``), which is then renamed: an interrupted
     call never leaves a folder named like the sample.
     """
@@ -144,6 +145,7 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
         files=files,
     )
 
+    _check_replaceable(folder)
     folder.parent.mkdir(parents=True, exist_ok=True)
     remove_leftovers(folder)  # of an earlier run that was killed
     partial = temporary_name(folder)  # this call's own: two runs writing one dataset never share it
@@ -170,6 +172,27 @@ def write_sample(folder, *, image, normals, depth, mask, light, albedo, meta: di
     except BaseException:
         shutil.rmtree(partial, ignore_errors=True)
         raise
+
+
+# Every image file a sample folder may hold (write_sample), with the channels it must have (check_sample);
+# a folder of these and meta.json alone is a sample, whole or damaged.
+SAMPLE_CHANNELS = {"image.exr": ["Y"], "image.png": ["Y"], "normals.exr": ["R", "G", "B"], "depth.exr": [],
+                   "mask.png": [], "shadow_mask.png": [], "albedo.exr": ["Y"]}
+SAMPLE_FILES = {*SAMPLE_CHANNELS, META}
+
+
+def _check_replaceable(folder: Path) -> None:
+    """OSError before any work when ``folder`` exists as something a sample may not replace: a file,
+    or a folder holding anything but a sample's files (the user's own, which would be lost). A sample,
+    a damaged one (a file missing or cut short) and an empty folder are replaced."""
+    if folder.is_symlink() or (folder.exists() and not folder.is_dir()):
+        raise OSError(f"shadecut: {folder} exists and is not a folder: a sample of that name would replace it")
+    if folder.is_dir():
+        foreign = sorted(path.name for path in folder.iterdir() if path.name not in SAMPLE_FILES or not path.is_file())
+        if foreign:
+            raise OSError(f"shadecut: {folder} exists and is not a ShadeCut sample (it holds {', '.join(foreign[:3])}"
+                          f"{', ...' if len(foreign) > 3 else ''}): a sample of that name would replace it and every "
+                          "file in it; move it, or write the samples elsewhere")
 
 
 def _csv_row(entry: dict) -> dict:

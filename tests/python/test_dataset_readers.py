@@ -1,6 +1,7 @@
-"""The dataset's and DiLiGenT's readers on what a user's folder can hold (issue 48): a named pipe
-where an image should be (finding 6), a pixel size of 0 in meta.json (13), a light below the horizon
-in light_directions.txt (17)."""
+"""The dataset's and DiLiGenT's readers and writer on what a user's folder can hold (issue 48): a
+named pipe where an image should be (finding 6), a pixel size of 0 in meta.json (13), a light below
+the horizon in light_directions.txt (17), a folder of the user's named like a sample (the writer's
+check of what it would replace)."""
 
 import json
 import os
@@ -76,3 +77,31 @@ def test_a_light_below_the_horizon_is_named_by_file_line_and_image_before_anythi
     with pytest.raises(evaluation.EvaluationError, match="line 2 .*002.png"):
         evaluation.import_objects([source], tmp_path / "eval" / "diligent", log=lambda line: None)
     assert not (tmp_path / "eval" / "diligent").exists()
+
+
+def test_a_users_folder_named_like_a_sample_is_not_replaced(tmp_path):
+    """import_diligent into a folder holding the user's own ball_001/ replaced it and all its files."""
+    source = tmp_path / "ballPNG"
+    write_fixture(source)
+    own = tmp_path / "out" / "ball_001"
+    own.mkdir(parents=True)
+    (own / "notes.txt").write_text("the user's own")
+    with pytest.raises(OSError, match=r"ball_001 exists and is not a ShadeCut sample \(it holds notes.txt\)"):
+        dataset.import_diligent(source, tmp_path / "out")
+    assert (own / "notes.txt").read_text() == "the user's own"
+    (tmp_path / "file").write_text("a file")
+    with pytest.raises(OSError, match="exists and is not a folder"):
+        sphere_sample(tmp_path / "file")
+    assert (tmp_path / "file").read_text() == "a file"
+
+
+def test_a_sample_a_damaged_one_or_an_empty_folder_is_replaced(tmp_path):
+    sphere_sample(tmp_path / "s")
+    sphere_sample(tmp_path / "s", pixel_size=0.5)
+    assert dataset.load_sample_meta(tmp_path / "s")["pixel_size"] == 0.5
+    (tmp_path / "s" / "meta.json").unlink()  # damaged: its files alone, redone
+    sphere_sample(tmp_path / "s")
+    assert dataset.check_sample(tmp_path / "s") is None
+    (tmp_path / "empty").mkdir()
+    sphere_sample(tmp_path / "empty")
+    assert dataset.is_sample(tmp_path / "empty")
