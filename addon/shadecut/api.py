@@ -119,33 +119,60 @@ def reconstruct(
     progress: Optional[ProgressCallback] = None,
     **overrides,
 ) -> Reconstruction:
-    """Reconstructs normals and depth from one Lambertian image.
+    """Reconstructs normals and depth from one Lambertian photograph, or from several of one view,
+    each under its own light.
 
     Args:
-        image: (H, W) linear intensity or (H, W, 3) linear RGB under one white light, at least 2 x 2,
-            finite, >= 0. The shape is read from a colour image's Rec. 709 luminance; its colour tells
-            paint from shading (``albedo_method="retinex"``) and gives ``albedo_colour``.
-        light: direction toward the distant light in the camera frame, S_z > 0; normalized here.
+        image: one photograph, (H, W) linear intensity or (H, W, 3) linear RGB under one white light,
+            at least 2 x 2, finite, >= 0; or several: a list of such photographs, a (K, H, W, 3)
+            stack, or a (K, H, W) stack with ``light`` K x 3. The shape is read from a colour image's
+            Rec. 709 luminance; its colour tells paint from shading (``albedo_method="retinex"``) and
+            gives ``albedo_colour``. Several photographs are read by photometric stereo where three
+            or more light a pixel, and the graph cut chooses where two leave two normals
+            (docs/method.md, "Several photographs").
+        light: direction toward the distant light in the camera frame, S_z > 0; normalized here; with
+            several photographs, K such directions (K x 3), one per photograph, in order.
             None = estimated from the image by the ``light_method`` option (see :func:`estimate_light`),
-            and then also the albedo unless given; ``stats.light_estimated`` says so.
+            and then also the albedo unless given; ``stats.light_estimated`` says so (one photograph
+            only: several need their lights).
         mask: (H, W) bool pixels to reconstruct; None = every pixel.
         albedo: > 0; None = estimated with the light, or with a given light by the ``albedo_method``
-            option (:func:`estimate_albedo`).
+            option (:func:`estimate_albedo`); with several photographs, per pixel from them.
         options: a :class:`ReconstructOptions`; None = the defaults.
         progress: called as progress(fraction, stage); a false answer raises :class:`Cancelled`.
         **overrides: fields of :class:`ReconstructOptions` to change (``method="lee_rosenfeld"``,
             ``labels=24``, ...); an unknown name raises TypeError.
 
     Returns:
-        a :class:`Reconstruction`: ``normals``, ``depth``, ``mask``, ``albedo``, ``light`` and
+        a :class:`Reconstruction`: ``normals``, ``depth``, ``mask``, ``albedo``, ``albedo_map``,
+        ``light`` (and ``lights``, one per photograph), ``residual`` (several photographs) and
         ``stats`` (a :class:`ReconstructStats`).
     """
     if options is not None and not isinstance(options, ReconstructOptions):
         raise TypeError(f"shadecut: options must be a ReconstructOptions, not a {type(options).__name__}: "
                         "options=ReconstructOptions(labels=24), or the fields as keywords (labels=24)")
     chosen = (options or ReconstructOptions()).replace(**overrides)
-    return _core.reconstruct(_real(image), None if light is None else _vector3(light), _mask(mask), albedo,
-                             chosen, progress)
+    images, lights = _photographs(image, light)
+    return _core.reconstruct(images, lights, _mask(mask), albedo, chosen, progress)
+
+
+def _photographs(image, light) -> tuple[list, Optional[list]]:
+    """The photographs of a reconstruct() call and their lights (None: estimated)."""
+    several_lights = light is not None and np.ndim(light) == 2
+    if isinstance(image, (list, tuple)):
+        images = [_real(photograph) for photograph in image]
+    else:
+        array = _real(image)
+        stacked = array.ndim == 4 or (array.ndim == 3 and several_lights and len(light) == array.shape[0] > 1)
+        images = list(array) if stacked else [array]
+    if light is None:
+        return images, None
+    if several_lights:
+        return images, [_vector3(direction) for direction in light]
+    if len(images) > 1:
+        raise ValueError(f"shadecut: {len(images)} photographs but one light; give one light per photograph "
+                         "(a K x 3 array)")
+    return images, [_vector3(light)]
 
 
 @dataclass

@@ -116,7 +116,14 @@ void bind_stats(py::module_& m) {
                     "the mask is the cut-out's only when found")
       .def_readonly("cut_out_contrast", &ReconstructStats::cut_out_contrast,
                     "the share of the cut-out's outline that differs from the background")
-      .def_readonly("cut_out_message", &ReconstructStats::cut_out_message, "the cut-out's sentence for the user");
+      .def_readonly("cut_out_message", &ReconstructStats::cut_out_message, "the cut-out's sentence for the user")
+      .def_readonly("photographs", &ReconstructStats::photographs, "how many photographs the call read")
+      .def_readonly("pair_pixels", &ReconstructStats::pair_pixels,
+                    "several photographs: masked pixels where two were usable (the graph cut chose between two normals)")
+      .def_readonly("single_pixels", &ReconstructStats::single_pixels,
+                    "several photographs: masked pixels where one was usable (filled from their neighbours)")
+      .def_readonly("dark_pixels", &ReconstructStats::dark_pixels,
+                    "several photographs: masked pixels where none was usable (filled from their neighbours)");
 }
 
 void bind_result(py::module_& m) {
@@ -144,29 +151,50 @@ void bind_result(py::module_& m) {
       .def_property_readonly("light", [](const Reconstruction& r) {
         return py::array_t<double>(3, r.light.data());
       }, "(3,) unit vector toward the light used, camera frame")
+      .def_property_readonly("lights", [](const Reconstruction& r) {
+        py::array_t<double> lights({py::ssize_t(r.lights.size()), py::ssize_t(3)});
+        for (std::size_t k = 0; k < r.lights.size(); ++k)
+          for (int axis = 0; axis < 3; ++axis) lights.mutable_at(py::ssize_t(k), axis) = r.lights[k][axis];
+        return lights;
+      }, "(K, 3) the unit light of each photograph, as used")
+      .def_property_readonly("residual", [](const py::object& self) -> py::object {
+        const ImageF& residual = self.cast<const Reconstruction&>().residual;
+        if (residual.size() == 0) return py::none();
+        return view(self, {residual.rows(), residual.cols()}, residual.data());
+      }, "several photographs: (H, W) float32 RMS misfit of the photographs to the result; None for one")
       .def_readonly("stats", &Reconstruction::stats);
 
   m.attr("AMBIGUOUS_RESIDUAL_RATIO") = kAmbiguousResidualRatio;
 }
 
+// One photograph of a Python call: grey (H, W) or colour (H, W, 3), with its light or none.
+Observation to_observation(const FloatArray& image, const std::optional<std::vector<double>>& light, const char* name) {
+  std::optional<Eigen::Vector3d> light_vector;
+  if (light) light_vector = to_vector3(*light, "light");
+  require_grey_or_colour(image);
+  return image.ndim() == 3 ? colour_observation(to_colour(image, name), light_vector)
+                           : grey_observation(to_image(image, name), light_vector);
+}
+
 void bind_reconstruct_function(py::module_& m) {
   m.def(
       "reconstruct",
-      [](const FloatArray& image_array, const std::optional<std::vector<double>>& light,
+      [](const std::vector<FloatArray>& images, const std::optional<std::vector<std::vector<double>>>& lights,
          const std::optional<BoolArray>& mask_array, std::optional<double> albedo, ReconstructOptions options,
          const std::optional<py::function>& progress) {
+        if (lights && lights->size() != images.size())
+          throw InvalidArgument("shadecut: " + std::to_string(images.size()) + " photographs but " +
+                                std::to_string(lights->size()) + " lights; give one light per photograph");
         const std::optional<Mask> mask = to_mask(mask_array);
         options.progress = python_progress(progress);
-        std::optional<Eigen::Vector3d> light_vector;
-        if (light) light_vector = to_vector3(*light, "light");
-        require_grey_or_colour(image_array);
-        const std::vector<Observation> photographs{image_array.ndim() == 3
-                                                       ? colour_observation(to_colour(image_array, "image"), light_vector)
-                                                       : grey_observation(to_image(image_array, "image"), light_vector)};
+        std::vector<Observation> photographs;
+        for (std::size_t k = 0; k < images.size(); ++k)
+          photographs.push_back(to_observation(images[k], lights ? std::optional((*lights)[k]) : std::nullopt,
+                                               images.size() > 1 ? "photograph" : "image"));
         py::gil_scoped_release release;
         return reconstruct(photographs, mask ? &*mask : nullptr, albedo, options);
       },
-      py::arg("image"), py::arg("light"), py::arg("mask"), py::arg("albedo"), py::arg("options"), py::arg("progress"));
+      py::arg("images"), py::arg("lights"), py::arg("mask"), py::arg("albedo"), py::arg("options"), py::arg("progress"));
 }
 
 }  // namespace

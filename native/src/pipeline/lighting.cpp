@@ -35,6 +35,7 @@ LightFrame choose_lighting(const ImageF& image, const Mask& mask, float brightes
   }
   const LightFrame frame = LightFrame::from_direction(direction);
   result.light = frame.direction;
+  result.lights = {frame.direction};
   if (albedo) result.albedo = *albedo;
   else if (options.scene == SceneKind::Relief) result.albedo = relief_albedo(image, mask, frame.direction);
   else result.albedo = estimate_albedo(image, mask, options.albedo_method);

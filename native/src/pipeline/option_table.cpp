@@ -99,6 +99,14 @@ std::vector<OptionField> make_fields() {
        "reliefs: bright lines narrower than this many pixels are paint (mortar), not slope; < 2 = off", {}},
       {"paint_line_contrast", G::Relief, &O::paint_line_contrast, above(1.0),
        "reliefs: how much brighter than both its sides such a line is", {}},
+      {"photometric_shadow_fraction", G::Photographs, &O::photometric_shadow_fraction, from_to_below(0.0, 1.0),
+       "several photographs: one is in shadow at a pixel where it is darker than this share of the pixel's albedo", {}},
+      {"photometric_outlier_tolerance", G::Photographs, &O::photometric_outlier_tolerance, above(0.0),
+       "several photographs: with four or more lit, one that misses the others' fit by more than this share of the "
+       "albedo (a highlight, a cast shadow) is left out", {}},
+      {"candidate_smoothness", G::Photographs, &O::candidate_smoothness, above(0.0),
+       "several photographs: the graph cut's weight on neighbours' normals agreeing where two photographs leave two "
+       "normals", {}},
       {"threads", G::Runtime, &O::threads, between(0.0, kMaxThreads), "threads; 0 = all cores", {}},
   };
 }
@@ -211,7 +219,8 @@ std::string OptionRange::text(bool whole) const {
 const std::vector<std::string>& option_group_names() {
   static const std::vector<std::string> names{"scene and method", "graph cut",    "iterative methods",
                                               "paint",            "shadows and highlights", "integration",
-                                              "refinement",       "reliefs",      "runtime"};
+                                              "refinement",       "reliefs",      "several photographs",
+                                              "runtime"};
   return names;
 }
 

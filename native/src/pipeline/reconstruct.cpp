@@ -7,6 +7,7 @@
 
 #include "pipeline/option_checks.hpp"
 #include "pipeline/paint.hpp"
+#include "pipeline/photographs.hpp"
 #include "support/stopwatch.hpp"
 
 namespace shadecut {
@@ -45,9 +46,8 @@ Reconstruction reconstruct_one(const Observation& photograph, const Mask* mask, 
 Reconstruction reconstruct(const std::vector<Observation>& observations, const Mask* mask, std::optional<double> albedo,
                            const ReconstructOptions& options) {
   if (observations.empty()) throw InvalidArgument("shadecut: no photograph given");
-  if (observations.size() > 1)
-    throw InvalidArgument("shadecut: " + std::to_string(observations.size()) +
-                          " photographs given; reconstruct() reads one photograph at a time so far");
+  check_option_ranges(options);
+  if (observations.size() > 1) return detail::reconstruct_photographs(observations, mask, albedo, options);
   return reconstruct_one(observations.front(), mask, albedo, options);
 }
 

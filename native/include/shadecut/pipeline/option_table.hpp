@@ -14,7 +14,18 @@
 namespace shadecut {
 
 /// The stage an option belongs to, in the order the docs list them.
-enum class OptionGroup { Scene, GraphCut, Iterative, Paint, ShadowsAndHighlights, Integration, Refinement, Relief, Runtime };
+enum class OptionGroup {
+  Scene,
+  GraphCut,
+  Iterative,
+  Paint,
+  ShadowsAndHighlights,
+  Integration,
+  Refinement,
+  Relief,
+  Photographs,
+  Runtime
+};
 
 /// Every group's title ("graph cut"), in the order of the enum.
 const std::vector<std::string>& option_group_names();

@@ -17,9 +17,11 @@ namespace shadecut {
 
 /// Reconstructs normals and depth from photographs of one view.
 ///
-/// @param[in] observations the photographs, each with its light (observation.hpp); all H x W. One
-///                         photograph is read as the paper reads it; several are not supported yet
-///                         (InvalidArgument).
+/// @param[in] observations the photographs, each with its light (observation.hpp); all H x W, all grey
+///                         or all colour. One photograph is read as the paper reads it (its light
+///                         given or estimated); several of one view under different given lights by
+///                         photometric stereo, with the graph cut where two photographs leave two
+///                         normals (docs/method.md, "Several photographs").
 /// @param[in] mask    H x W pixels to reconstruct, or nullptr for all (an object without one is cut
 ///                    out of its background first: ReconstructOptions::cut_out).
 /// @param[in] albedo  > 0, or std::nullopt: the light estimator's albedo when the light is estimated,

@@ -6,6 +6,8 @@
 #include <shadecut/estimate/estimate_albedo.hpp>
 #include <shadecut/estimate/estimate_light.hpp>
 #include <shadecut/integrate/integrate.hpp>
+#include <shadecut/photometric/choose_candidates.hpp>
+#include <shadecut/photometric/photometric_stereo.hpp>
 #include <shadecut/pipeline/method.hpp>
 #include <shadecut/pipeline/scene_kind.hpp>
 #include <shadecut/support/progress.hpp>
@@ -74,6 +76,10 @@ struct ReconstructOptions {
   double detail_scale_factor = 1.5;
   int paint_line_width = 9;
   double paint_line_contrast = 2.0;
+  // Several photographs (photometric/): the defaults are the stages' own
+  double photometric_shadow_fraction = PhotometricStereoParams{}.shadow_fraction;
+  double photometric_outlier_tolerance = PhotometricStereoParams{}.outlier_tolerance;
+  double candidate_smoothness = CandidateCutParams{}.smoothness;
   // Runtime
   int threads = 0;
   /// Told the fraction of the call done and the stage: "cut_out", "light" (estimating it), "local", "energy",

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <string>
@@ -71,6 +72,12 @@ struct ReconstructStats {
   CutOutOutcome cut_out = CutOutOutcome::NotTried;
   double cut_out_contrast = 0.0;
   std::string cut_out_message;
+  /// How many photographs the call read; with several, the masked pixels where two were usable (the
+  /// graph cut chose between their two normals), one, and none (both filled from their neighbours).
+  int photographs = 1;
+  std::int64_t pair_pixels = 0;
+  std::int64_t single_pixels = 0;
+  std::int64_t dark_pixels = 0;
 };
 
 struct Reconstruction {
@@ -82,7 +89,13 @@ struct Reconstruction {
   /// H x W x 3 for a colour image: the de-lit colour, albedo_map times the image's chromaticity; empty
   /// (0 x 0 channels) for a grey image.
   ColourImage albedo_colour;
-  Eigen::Vector3d light;   ///< unit light direction used, camera frame
+  Eigen::Vector3d light;   ///< unit light direction used, camera frame (the first photograph's)
+  /// Several photographs: the unit light of each, as used; one photograph: its light alone.
+  std::vector<Eigen::Vector3d> lights;
+  /// Several photographs: H x W, how far the photographs are from the result, the RMS over them of
+  /// intensity - albedo_map max(0, n . S_k) (their intensity units): cast shadows, highlights and
+  /// what no Lambertian surface explains stand out. Empty for one photograph.
+  ImageF residual;
   ReconstructStats stats;
 };
 

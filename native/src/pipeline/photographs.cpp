@@ -1,0 +1,177 @@
+#include "pipeline/photographs.hpp"
+
+#include <shadecut/integrate/surface_from_normals.hpp>
+#include <shadecut/photometric/choose_candidates.hpp>
+#include <shadecut/photometric/photometric_stereo.hpp>
+#include <shadecut/pipeline/relief.hpp>
+#include <shadecut/support/errors.hpp>
+#include <shadecut/support/validate.hpp>
+
+#include "pipeline/option_checks.hpp"
+#include "pipeline/surface_rules.hpp"
+#include "support/parallel.hpp"
+#include "support/stopwatch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace shadecut::detail {
+
+namespace {
+
+// The shares of the call's progress: the per-pixel fits, the cut, the integration.
+constexpr double kFitShare = 0.4;
+constexpr double kCutShare = 0.7;
+
+// A pixel's albedo fitted to its chosen normal over the photographs that light it at least this much
+// (n . S): at grazing light the shading is all noise.
+constexpr double kAlbedoFitMinShading = 0.1;
+
+void check_photographs(const std::vector<Observation>& photographs, const Mask* mask) {
+  const Observation& first = photographs.front();
+  for (std::size_t k = 0; k < photographs.size(); ++k) {
+    const Observation& photograph = photographs[k];
+    check_image(photograph.image);
+    if (photograph.image.rows() != first.image.rows() || photograph.image.cols() != first.image.cols())
+      throw InvalidArgument("shadecut: photograph " + std::to_string(k + 1) + " is " + std::to_string(photograph.image.cols()) +
+                            " x " + std::to_string(photograph.image.rows()) + " pixels but the first is " +
+                            std::to_string(first.image.cols()) + " x " + std::to_string(first.image.rows()) +
+                            "; several photographs must be of one view, all of one size");
+    if (photograph.has_colour() != first.has_colour())
+      throw InvalidArgument("shadecut: photograph " + std::to_string(k + 1) + " is " + (photograph.has_colour() ? "colour" : "grey") +
+                            " but the first is not; give all in colour or all grey");
+    if (photograph.image.minCoeff() < 0.0f)
+      throw InvalidArgument("shadecut: photograph " + std::to_string(k + 1) + " has negative intensities; linear intensity is >= 0");
+    if (!photograph.light)
+      throw InvalidArgument("shadecut: the light of photograph " + std::to_string(k + 1) +
+                            " is not given; with several photographs every light must be given (estimating them is "
+                            "not supported yet)");
+  }
+  if (mask) check_mask(*mask, first.image);
+}
+
+// albedo_map max(0, n . S_k) against every photograph: the RMS misfit per pixel, and the albedo refitted
+// to the chosen normals (least squares over the photographs that light the pixel).
+void fit_albedo_and_residual(const std::vector<Observation>& photographs, const std::vector<Eigen::Vector3d>& lights,
+                             Reconstruction& result) {
+  const Eigen::Index pixels = result.normals.size();
+  const int rows = result.normals.rows, cols = result.normals.cols;
+  result.albedo_map = ImageF::Zero(rows, cols);
+  result.residual = ImageF::Zero(rows, cols);
+  parallel_for(int(pixels), 4096, 0, [&](int i) {
+    if (!result.mask.data()[i]) return;
+    const Eigen::Vector3d n = result.normals.xyz.row(i).transpose().cast<double>();
+    double shaded_intensity = 0.0, shading_squared = 0.0;
+    for (std::size_t k = 0; k < photographs.size(); ++k) {
+      const double shading = n.dot(lights[k]);
+      if (shading < kAlbedoFitMinShading) continue;
+      shaded_intensity += shading * photographs[k].image.data()[i];
+      shading_squared += shading * shading;
+    }
+    const double albedo = shading_squared > 0.0 ? shaded_intensity / shading_squared : 0.0;
+    double misfit = 0.0;
+    for (std::size_t k = 0; k < photographs.size(); ++k) {
+      const double predicted = albedo * std::max(0.0, n.dot(lights[k]));
+      misfit += std::pow(photographs[k].image.data()[i] - predicted, 2);
+    }
+    result.albedo_map.data()[i] = float(albedo);
+    result.residual.data()[i] = float(std::sqrt(misfit / double(photographs.size())));
+  });
+}
+
+// The de-lit colour: the albedo map times the photographs' mean chromaticity at each pixel.
+ColourImage delit_colour(const std::vector<Observation>& photographs, const Reconstruction& result) {
+  ColourImage colour;
+  for (int c = 0; c < 3; ++c) {
+    ImageF summed = ImageF::Zero(result.mask.rows(), result.mask.cols());
+    ImageF luminance_sum = summed;
+    for (const Observation& photograph : photographs) {
+      summed += photograph.colour.channel[std::size_t(c)];
+      luminance_sum += photograph.image;
+    }
+    colour.channel[std::size_t(c)] =
+        result.mask.select((luminance_sum > 0.0f).select(result.albedo_map * summed / luminance_sum, 0.0f), 0.0f);
+  }
+  return colour;
+}
+
+// The normals the photographs give: fitted where three or more are usable, chosen by the graph cut
+// where two leave two; `fill` marks the pixels with fewer, whose normals the surface fills in.
+NormalMap photographs_normals(const std::vector<Observation>& photographs, const std::vector<Eigen::Vector3d>& lights,
+                              const Mask& mask, std::optional<double> albedo, const ReconstructOptions& options,
+                              const Progress& progress, Mask& fill, ReconstructStats& stats) {
+  std::vector<ImageF> images;
+  LightDirections directions(Eigen::Index(photographs.size()), 3);
+  for (std::size_t k = 0; k < photographs.size(); ++k) {
+    images.push_back(photographs[k].image);
+    directions.row(Eigen::Index(k)) = lights[k].transpose();
+  }
+  PhotometricStereoParams params;
+  params.shadow_fraction = options.photometric_shadow_fraction;
+  params.outlier_tolerance = options.photometric_outlier_tolerance;
+  params.albedo = albedo.value_or(0.0);
+  Stopwatch stage;
+  const PhotometricStereoResult fitted = photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kFitShare));
+  stats.seconds["photometric stereo"] = stage.seconds();
+  stats.pair_pixels = fitted.pair_pixels;
+  stats.single_pixels = fitted.single_pixels;
+  stats.dark_pixels = fitted.dark_pixels;
+  stage.restart();
+  CandidateCutParams cut_params;
+  cut_params.smoothness = options.candidate_smoothness;
+  CandidateCutResult chosen = choose_candidates(photometric_candidates(fitted), cut_params, progress.range(kFitShare, kCutShare));
+  stats.seconds["candidate cut"] = stage.seconds();
+  stats.cycles = chosen.cycles;
+  stats.accepted_moves = chosen.accepted_moves;
+  fill = mask && (fitted.usable < 2);
+  // A pixel to fill needs a normal to start from: facing the viewer.
+  for (Eigen::Index i = 0; i < fill.size(); ++i)
+    if (fill.data()[i]) chosen.normals.xyz.row(i) << 0.0f, 0.0f, 1.0f;
+  return std::move(chosen.normals);
+}
+
+}  // namespace
+
+Reconstruction reconstruct_photographs(const std::vector<Observation>& photographs, const Mask* mask_in,
+                                       std::optional<double> albedo, const ReconstructOptions& options) {
+  const Stopwatch total;
+  check_photographs(photographs, mask_in);
+  if (albedo) check_albedo(*albedo);
+  const ImageF& first = photographs.front().image;
+  const Mask mask = mask_in ? *mask_in : Mask::Constant(first.rows(), first.cols(), true);
+  check_options(options, mask);
+  const Progress progress(options.progress);
+  const ThreadCountScope threads(options.threads);
+  Reconstruction result;
+  result.mask = mask;
+  for (const Observation& photograph : photographs) result.lights.push_back(photograph.light->normalized());
+  result.light = result.lights.front();
+  result.stats.photographs = int(photographs.size());
+  Mask fill;
+  NormalMap normals = photographs_normals(photographs, result.lights, mask, albedo, options, progress, fill, result.stats);
+  progress.report(kCutShare, "integration");
+  const Stopwatch integration;
+  Surface surface = surface_from_normals(std::move(normals), mask, fill, edge_is_outline(options), options.integrator,
+                                         options.seamless, options.max_slope, progress.range(kCutShare, 1.0));
+  result.stats.seconds["integration"] = integration.seconds();
+  result.normals = std::move(surface.normals);
+  result.depth = std::move(surface.depth);
+  result.stats.shadow_pixels = surface.filled_pixels;
+  // A relief sits on a flat carrier; its normals stay the photographs', which hold its large forms too.
+  if (options.scene == SceneKind::Relief && !options.seamless) flatten_relief(result.depth, mask);
+  fit_albedo_and_residual(photographs, result.lights, result);
+  const ImageF fitted_albedo = mask.select(result.albedo_map, 0.0f);
+  std::vector<float> values;
+  for (Eigen::Index i = 0; i < fitted_albedo.size(); ++i)
+    if (mask.data()[i] && fitted_albedo.data()[i] > 0.0f) values.push_back(fitted_albedo.data()[i]);
+  if (values.empty()) throw InvalidArgument("shadecut: every photograph is dark everywhere in the mask; nothing to reconstruct");
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(values.size() / 2), values.end());
+  result.albedo = albedo.value_or(double(values[values.size() / 2]));
+  if (photographs.front().has_colour()) result.albedo_colour = delit_colour(photographs, result);
+  progress.report(1.0, "integration");
+  result.stats.seconds["total"] = total.seconds();
+  return result;
+}
+
+}  // namespace shadecut::detail

@@ -1,0 +1,116 @@
+"""Several photographs of one view, each under its own light: photometric stereo where three or more
+light a pixel, the graph cut where two leave two normals (docs/method.md, "Several photographs")."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import shadecut
+from shadecut import diligent, synthetic
+
+DILIGENT = Path(__file__).resolve().parents[3] / "shared" / "data" / "diligent"
+# Four lights about 40 degrees from the viewer, from the top, the left, the bottom and the right.
+AROUND = np.array([[0.0, 0.64, 0.77], [-0.64, 0.0, 0.77], [0.0, -0.64, 0.77], [0.64, 0.0, 0.77]])
+
+
+def rendered(scene, lights):
+    return [shadecut.render(scene.normals, light, 0.8, scene.mask) for light in lights]
+
+
+def test_four_lambertian_photographs_give_the_true_normals():
+    for scene in (synthetic.sphere((0, 0, 1), size=96), synthetic.bumps((0, 0, 1), size=96)):
+        result = shadecut.reconstruct(rendered(scene, AROUND), AROUND, scene.mask)
+        assert scene.mean_error(result.normals) < 1.0
+        assert result.stats.photographs == 4 and result.lights.shape == (4, 3)
+        np.testing.assert_allclose(result.albedo_map[shadecut.erode_mask(scene.mask, 2)].mean(), 0.8, atol=0.02)
+        assert result.residual.shape == scene.mask.shape and np.median(result.residual[scene.mask]) < 1e-3
+
+
+def test_a_stack_and_a_list_are_the_same_photographs():
+    scene = synthetic.bumps((0, 0, 1), size=64)
+    images = rendered(scene, AROUND)
+    from_list = shadecut.reconstruct(images, AROUND, scene.mask)
+    from_stack = shadecut.reconstruct(np.stack(images), AROUND, scene.mask)
+    np.testing.assert_array_equal(from_list.normals, from_stack.normals)
+    colour = [np.repeat(image[..., None], 3, axis=-1) * np.array([1.0, 0.8, 0.6], np.float32) for image in images]
+    coloured = shadecut.reconstruct(np.stack(colour), AROUND, scene.mask)
+    assert scene.mean_error(coloured.normals) < 1.0
+    red, green, blue = np.moveaxis(coloured.albedo_colour[scene.mask], -1, 0)
+    np.testing.assert_allclose(green / red, 0.8, rtol=1e-3)
+    np.testing.assert_allclose(blue / red, 0.6, rtol=1e-3)
+
+
+def test_one_photograph_in_a_list_is_todays_call():
+    scene = synthetic.sphere((1, 0, 1), size=64)
+    alone = shadecut.reconstruct(scene.image, scene.light, scene.mask)
+    listed = shadecut.reconstruct([scene.image], [scene.light], scene.mask)
+    np.testing.assert_array_equal(alone.normals, listed.normals)
+    np.testing.assert_array_equal(alone.depth, listed.depth)
+    assert alone.residual is None and listed.lights.shape == (1, 3)
+
+
+def test_pixels_dark_in_every_photograph_are_filled_not_refused():
+    scene = synthetic.sphere((0, 0, 1), size=64)
+    images = rendered(scene, AROUND)
+    for image in images:
+        image[30:34, 30:34] = 0.0
+    result = shadecut.reconstruct(images, AROUND, scene.mask)
+    assert result.stats.dark_pixels == 16 and np.isfinite(result.normals).all()
+    assert scene.mean_error(result.normals) < 1.5
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (lambda images, lights: ([images[0][:-1], *images[1:]], lights), "photograph 2 is 64 x 64 pixels but the first"),
+        (lambda images, lights: (images, lights[:3]), "4 photographs but 3 lights"),
+        (lambda images, lights: (images, np.vstack([lights[:3], lights[:1]])), "adds nothing"),
+        (lambda images, lights: (images, np.vstack([lights[:3], [[0.3, 0.2, -1.0]]])), "horizon"),
+        (lambda images, lights: (images, None), "every light must be given"),
+    ],
+)
+def test_bad_photographs_are_refused_with_a_message(change, message):
+    scene = synthetic.sphere((0, 0, 1), size=64)
+    images, lights = change(rendered(scene, AROUND), AROUND)
+    with pytest.raises(ValueError, match=message):
+        shadecut.reconstruct(images, lights, scene.mask)
+
+
+def diligent_error(name: str, images: list) -> tuple[float, float]:
+    """Ours and plain least squares (every photograph, nothing left out) on DiLiGenT, calibrated lights."""
+    folder = DILIGENT / f"{name}PNG"
+    if not folder.is_dir():
+        pytest.skip(f"DiLiGenT is not at {DILIGENT} (expects {name}PNG/ there in the benchmark's layout)")
+    loaded = diligent.load_object(folder, images=images)
+    inner = shadecut.erode_mask(loaded.mask, 2)
+    ours = shadecut.reconstruct(loaded.photos, loaded.lights, loaded.mask)
+    grey = np.stack([photo @ np.array([0.2126, 0.7152, 0.0722]) for photo in loaded.photos], axis=-1)
+    scaled = grey[loaded.mask] @ np.linalg.pinv(loaded.lights).T
+    plain = np.zeros_like(loaded.normals)
+    plain[loaded.mask] = scaled / np.maximum(np.linalg.norm(scaled, axis=-1, keepdims=True), 1e-12)
+    return (shadecut.angular_error(ours.normals, loaded.normals, inner),
+            shadecut.angular_error(plain, loaded.normals, inner))
+
+
+FOUR = [85, 7, 37, 49]
+EIGHT = [85, 79, 7, 31, 37, 25, 49, 73]
+
+
+@pytest.mark.parametrize("name, bound", [("ball", 3.0), ("cat", 8.0)])
+def test_four_diligent_photographs_beat_plain_least_squares(name, bound):
+    ours, plain = diligent_error(name, FOUR)
+    assert ours <= bound and ours < plain, (ours, plain)
+
+
+@pytest.mark.xfail(strict=True, reason="issue 45 asks <= 16 deg; the reading figure reads 17.08 with four "
+                                       "photographs (plain least squares 17.8): its print and folds cast shadows "
+                                       "and highlights that one outlier dropped per pixel does not remove")
+def test_four_diligent_photographs_of_the_reading_figure_within_16_degrees():
+    ours, plain = diligent_error("reading", FOUR)
+    assert ours <= 16.0 and ours < plain, (ours, plain)
+
+
+@pytest.mark.parametrize("name", ["ball", "reading"])
+def test_eight_diligent_photographs_are_at_least_as_good_as_four(name):
+    assert diligent_error(name, EIGHT)[0] <= diligent_error(name, FOUR)[0] + 0.05
