@@ -78,7 +78,7 @@ const OptionField* field_of_flag(const std::string& flag, std::optional<bool>& f
 // One flag of the tool's own, with its value when it takes one; false when it is not one of them.
 bool parse_own_flag(const std::string& flag, const std::function<std::string()>& value, Arguments& arguments) {
   if (flag == "-h" || flag == "--help") arguments.help = true;
-  else if (flag == "--light") arguments.light = parse_light(value());
+  else if (flag == "--light") arguments.lights.push_back(parse_light(value()));
   else if (flag == "--out") arguments.out_dir = value();
   else if (flag == "--albedo") {
     const std::string text = value();
@@ -133,22 +133,29 @@ Arguments parse_arguments(const std::vector<std::string>& args) {
       }
     } else if (!flag.empty() && flag[0] == '-') {
       throw UsageError("unknown option " + flag);
-    } else if (arguments.image_path.empty()) {
-      arguments.image_path = flag;
     } else {
-      throw UsageError("more than one image given: '" + arguments.image_path + "' and '" + flag + "'");
+      arguments.image_paths.push_back(flag);
     }
     if (attached) throw UsageError(flag + " takes no value; got '" + args[i] + "'");
   }
-  if (!arguments.help && arguments.image_path.empty()) throw UsageError("no image given");
+  if (arguments.help) return arguments;
+  if (arguments.image_paths.empty()) throw UsageError("no image given");
+  if (arguments.image_paths.size() > 1 && arguments.lights.size() != arguments.image_paths.size())
+    throw UsageError(std::to_string(arguments.image_paths.size()) + " photographs but " + std::to_string(arguments.lights.size()) +
+                     " --light; give one --light per photograph, in their order");
+  if (arguments.image_paths.size() == 1 && arguments.lights.size() > 1)
+    throw UsageError("one photograph but " + std::to_string(arguments.lights.size()) + " --light");
   return arguments;
 }
 
 std::string usage() {
   std::ostringstream text;
   text << R"(usage: shadecut IMAGE [--light X,Y,Z] [options]
+       shadecut IMAGE1 IMAGE2 ... --light X,Y,Z --light X,Y,Z ... [options]
 
-Reconstructs a surface from one shaded image (shape from shading using graph cuts) and writes
+Reconstructs a surface from one shaded image (shape from shading using graph cuts), or from several
+photographs of one view each under its own light (photometric stereo, with the graph cut where two
+photographs leave two normals; one --light per photograph, in their order), and writes
 depth.exr, depth.png, normals.exr, normals.png, mesh.ply and the albedo per pixel, albedo.exr and
 albedo.png (in colour for a colour image), to the output folder.
 
@@ -158,7 +165,8 @@ the mask. A flag's value may follow it or be attached with '=' (--labels=24).
 
 input and output:
   --light X,Y,Z        light direction in the camera frame (Z > 0); without it the light (and,
-                       unless --albedo is given, the albedo) is estimated from the image
+                       unless --albedo is given, the albedo) is estimated from the image; with
+                       several photographs, once for each
   --albedo A           albedo (default: read from the image by --albedo-method)
   --out DIR            output folder (default shadecut_out)
   --color-space NAME   auto (default), linear or srgb: how the file's values relate to intensity

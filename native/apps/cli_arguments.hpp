@@ -20,10 +20,11 @@ struct UsageError : std::runtime_error {
 };
 
 struct Arguments {
-  std::string image_path;
+  /// One photograph, or several of one view under different lights (each with its --light, in order).
+  std::vector<std::string> image_paths;
   std::string out_dir = "shadecut_out";
   std::string color_space = "auto";
-  std::optional<Eigen::Vector3d> light;
+  std::vector<Eigen::Vector3d> lights;  ///< --light, once per photograph; none = estimated (one photograph)
   std::optional<double> albedo;
   std::int64_t max_pixels = 0;  ///< 0 until parsed: then the library's kDefaultMaxPixels or --max-pixels
   bool quiet = false;

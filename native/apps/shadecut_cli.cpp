@@ -175,6 +175,10 @@ void print_summary(const shadecut::cli::Arguments& arguments, const shadecut::Re
   const shadecut::ReconstructStats& stats = result.stats;
   std::cout << "light " << used.x() << "," << used.y() << "," << used.z()
             << (stats.light_estimated ? " (estimated by " + shadecut::to_string(shadecut::light_method_used(arguments.options)) + ")" : "")
+            << (stats.photographs > 1 ? " and " + std::to_string(stats.photographs - 1) + " more (" +
+                                            std::to_string(stats.pair_pixels) + " pixels lit in two photographs chosen by the graph cut, " +
+                                            std::to_string(stats.single_pixels + stats.dark_pixels) + " in fewer filled)"
+                                      : "")
             << "\nmethod " << shadecut::to_string(arguments.options.method) << ", albedo " << result.albedo << ", " << stats.cycles
             << " cycles, " << stats.moves << " moves, " << stats.seconds.at("total") << " s\n"
             << "orientation " << (arguments.flip ? "flipped; " : "")
@@ -192,20 +196,37 @@ void print_summary(const shadecut::cli::Arguments& arguments, const shadecut::Re
   std::cout << "wrote " << output_names() << " to " << arguments.out_dir << "\n";
 }
 
+// The photographs of the call, each with its light (none: estimated), read from their files.
+std::vector<shadecut::Observation> read_photographs(const shadecut::cli::Arguments& arguments, bool& colour, bool& has_alpha,
+                                                    shadecut::Mask& mask) {
+  std::vector<shadecut::Observation> photographs;
+  for (std::size_t k = 0; k < arguments.image_paths.size(); ++k) {
+    shadecut::LoadedImage input =
+        shadecut::load_image(arguments.image_paths[k], shadecut::parse_color_space(arguments.color_space), arguments.max_pixels);
+    std::optional<Eigen::Vector3d> light;
+    if (k < arguments.lights.size()) light = arguments.lights[k];
+    colour = input.colour.channel[0].size() > 0;
+    if (k == 0) {
+      has_alpha = input.has_alpha;
+      mask = input.mask;
+    }
+    photographs.push_back(colour ? shadecut::colour_observation(std::move(input.colour), light)
+                                 : shadecut::grey_observation(std::move(input.intensity), light));
+  }
+  return photographs;
+}
+
 int run(const shadecut::cli::Arguments& arguments) {
   check_output_folder(arguments.out_dir);
-  check_input_kept(arguments.image_path, arguments.out_dir);
+  for (const std::string& image : arguments.image_paths) check_input_kept(image, arguments.out_dir);
   catch_interruptions();
-  const shadecut::LoadedImage input =
-      shadecut::load_image(arguments.image_path, shadecut::parse_color_space(arguments.color_space), arguments.max_pixels);
+  bool colour = false, has_alpha = false;
+  shadecut::Mask alpha;
+  const std::vector<shadecut::Observation> photographs = read_photographs(arguments, colour, has_alpha, alpha);
   shadecut::ReconstructOptions options = arguments.options;
   options.progress = progress_reporter(arguments.quiet);
-  const bool colour = input.colour.channel[0].size() > 0;
   // Without alpha no mask is given: reconstruct() then cuts an object out of its background.
-  const shadecut::Mask* mask = input.has_alpha ? &input.mask : nullptr;
-  shadecut::Reconstruction result =
-      colour ? shadecut::reconstruct(input.colour, arguments.light, mask, arguments.albedo, options)
-             : shadecut::reconstruct(input.intensity, arguments.light, mask, arguments.albedo, options);
+  shadecut::Reconstruction result = shadecut::reconstruct(photographs, has_alpha ? &alpha : nullptr, arguments.albedo, options);
   if (arguments.flip) shadecut::flip_surface(result.depth, result.normals, result.mask);
   const std::filesystem::path out(arguments.out_dir);
   const std::vector<std::filesystem::path> made = missing_folders(out);

@@ -230,3 +230,20 @@ def test_a_log_gets_a_progress_line_per_step_and_runtime_errors_no_usage_hint(tm
     assert "--help" not in broken.stderr
     long_name = run(tmp_path / ("x" * 300 + ".png"), "--light", "1,0,1", "--quiet")
     assert long_name.returncode == 2 and "filesystem error" not in long_name.stderr, long_name.stderr
+
+
+def test_several_photographs_each_with_its_light(tmp_path):
+    """Four photographs of one view, a --light each in their order: photometric stereo's surface."""
+    scene = synthetic.bumps((0.0, 0.0, 1.0), size=64)
+    lights = ["0,0.64,0.77", "-0.64,0,0.77", "0,-0.64,0.77", "0.64,0,0.77"]
+    paths = []
+    for k, light in enumerate(lights):
+        paths.append(tmp_path / f"photo{k}.png")
+        shadecut.save_image(paths[-1], shadecut.render(scene.normals, [float(v) for v in light.split(",")], 0.8, scene.mask))
+    done = run(*paths, *[arg for light in lights for arg in ("--light", light)], "--out", tmp_path / "out", "--quiet")
+    assert done.returncode == 0, done.stderr
+    assert "and 3 more" in done.stdout
+    normals = shadecut.load_image(tmp_path / "out" / "normals.exr")
+    assert scene.mean_error(np.asarray(normals.colour)) < 2.0
+    short = run(*paths, "--light", lights[0], "--out", tmp_path / "short", "--quiet")
+    assert short.returncode == 2 and "4 photographs but 1 --light" in short.stderr

@@ -2,6 +2,7 @@
 
 #include <shadecut/integrate/surface_from_normals.hpp>
 #include <shadecut/photometric/choose_candidates.hpp>
+#include <shadecut/photometric/colour_albedo.hpp>
 #include <shadecut/photometric/photometric_stereo.hpp>
 #include <shadecut/pipeline/relief.hpp>
 #include <shadecut/support/errors.hpp>
@@ -23,10 +24,6 @@ namespace {
 // The shares of the call's progress: the per-pixel fits, the cut, the integration.
 constexpr double kFitShare = 0.4;
 constexpr double kCutShare = 0.7;
-
-// A pixel's albedo fitted to its chosen normal over the photographs that light it at least this much
-// (n . S): at grazing light the shading is all noise.
-constexpr double kAlbedoFitMinShading = 0.1;
 
 void check_photographs(const std::vector<Observation>& photographs, const Mask* mask) {
   const Observation& first = photographs.front();
@@ -51,66 +48,43 @@ void check_photographs(const std::vector<Observation>& photographs, const Mask* 
   if (mask) check_mask(*mask, first.image);
 }
 
-// albedo_map max(0, n . S_k) against every photograph: the RMS misfit per pixel, and the albedo refitted
-// to the chosen normals (least squares over the photographs that light the pixel).
-void fit_albedo_and_residual(const std::vector<Observation>& photographs, const std::vector<Eigen::Vector3d>& lights,
-                             Reconstruction& result) {
-  const Eigen::Index pixels = result.normals.size();
-  const int rows = result.normals.rows, cols = result.normals.cols;
-  result.albedo_map = ImageF::Zero(rows, cols);
-  result.residual = ImageF::Zero(rows, cols);
-  parallel_for(int(pixels), 4096, 0, [&](int i) {
+// The albedo per pixel (and channel) fitted to the chosen normals over the photographs usable there
+// (photometric_colour_albedo), and how far the photographs are from the result.
+void fit_albedo_and_residual(const std::vector<Observation>& photographs, const LightDirections& lights,
+                             const PhotometricStereoParams& params, Reconstruction& result) {
+  std::vector<ColourImage> colours;
+  for (const Observation& photograph : photographs) {
+    if (photograph.has_colour()) {
+      colours.push_back(photograph.colour);
+    } else {
+      ColourImage grey;
+      grey.channel.fill(photograph.image);
+      colours.push_back(std::move(grey));
+    }
+  }
+  ColourImage albedo = photometric_colour_albedo(colours, lights, result.normals, result.mask, {}, params);
+  result.albedo_map = photographs.front().has_colour() ? luminance(albedo) : albedo.channel[0];
+  if (photographs.front().has_colour()) result.albedo_colour = std::move(albedo);
+  result.residual = ImageF::Zero(result.mask.rows(), result.mask.cols());
+  parallel_for(int(result.mask.size()), 4096, 0, [&](int i) {
     if (!result.mask.data()[i]) return;
     const Eigen::Vector3d n = result.normals.xyz.row(i).transpose().cast<double>();
-    double shaded_intensity = 0.0, shading_squared = 0.0;
-    for (std::size_t k = 0; k < photographs.size(); ++k) {
-      const double shading = n.dot(lights[k]);
-      if (shading < kAlbedoFitMinShading) continue;
-      shaded_intensity += shading * photographs[k].image.data()[i];
-      shading_squared += shading * shading;
-    }
-    const double albedo = shading_squared > 0.0 ? shaded_intensity / shading_squared : 0.0;
     double misfit = 0.0;
     for (std::size_t k = 0; k < photographs.size(); ++k) {
-      const double predicted = albedo * std::max(0.0, n.dot(lights[k]));
-      misfit += std::pow(photographs[k].image.data()[i] - predicted, 2);
+      const double shading = std::max(0.0, n.dot(lights.row(Eigen::Index(k)).transpose().normalized()));
+      misfit += std::pow(photographs[k].image.data()[i] - result.albedo_map.data()[i] * shading, 2);
     }
-    result.albedo_map.data()[i] = float(albedo);
     result.residual.data()[i] = float(std::sqrt(misfit / double(photographs.size())));
   });
 }
 
-// The de-lit colour: the albedo map times the photographs' mean chromaticity at each pixel.
-ColourImage delit_colour(const std::vector<Observation>& photographs, const Reconstruction& result) {
-  ColourImage colour;
-  for (int c = 0; c < 3; ++c) {
-    ImageF summed = ImageF::Zero(result.mask.rows(), result.mask.cols());
-    ImageF luminance_sum = summed;
-    for (const Observation& photograph : photographs) {
-      summed += photograph.colour.channel[std::size_t(c)];
-      luminance_sum += photograph.image;
-    }
-    colour.channel[std::size_t(c)] =
-        result.mask.select((luminance_sum > 0.0f).select(result.albedo_map * summed / luminance_sum, 0.0f), 0.0f);
-  }
-  return colour;
-}
-
 // The normals the photographs give: fitted where three or more are usable, chosen by the graph cut
 // where two leave two; `fill` marks the pixels with fewer, whose normals the surface fills in.
-NormalMap photographs_normals(const std::vector<Observation>& photographs, const std::vector<Eigen::Vector3d>& lights,
-                              const Mask& mask, std::optional<double> albedo, const ReconstructOptions& options,
+NormalMap photographs_normals(const std::vector<Observation>& photographs, const LightDirections& directions,
+                              const Mask& mask, const PhotometricStereoParams& params, const ReconstructOptions& options,
                               const Progress& progress, Mask& fill, ReconstructStats& stats) {
   std::vector<ImageF> images;
-  LightDirections directions(Eigen::Index(photographs.size()), 3);
-  for (std::size_t k = 0; k < photographs.size(); ++k) {
-    images.push_back(photographs[k].image);
-    directions.row(Eigen::Index(k)) = lights[k].transpose();
-  }
-  PhotometricStereoParams params;
-  params.shadow_fraction = options.photometric_shadow_fraction;
-  params.outlier_tolerance = options.photometric_outlier_tolerance;
-  params.albedo = albedo.value_or(0.0);
+  for (const Observation& photograph : photographs) images.push_back(photograph.image);
   Stopwatch stage;
   const PhotometricStereoResult fitted = photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kFitShare));
   stats.seconds["photometric stereo"] = stage.seconds();
@@ -148,8 +122,14 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   for (const Observation& photograph : photographs) result.lights.push_back(photograph.light->normalized());
   result.light = result.lights.front();
   result.stats.photographs = int(photographs.size());
+  LightDirections directions(Eigen::Index(photographs.size()), 3);
+  for (std::size_t k = 0; k < photographs.size(); ++k) directions.row(Eigen::Index(k)) = result.lights[k].transpose();
+  PhotometricStereoParams params;
+  params.shadow_fraction = options.photometric_shadow_fraction;
+  params.outlier_tolerance = options.photometric_outlier_tolerance;
+  params.albedo = albedo.value_or(0.0);
   Mask fill;
-  NormalMap normals = photographs_normals(photographs, result.lights, mask, albedo, options, progress, fill, result.stats);
+  NormalMap normals = photographs_normals(photographs, directions, mask, params, options, progress, fill, result.stats);
   progress.report(kCutShare, "integration");
   const Stopwatch integration;
   Surface surface = surface_from_normals(std::move(normals), mask, fill, edge_is_outline(options), options.integrator,
@@ -160,7 +140,7 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   result.stats.shadow_pixels = surface.filled_pixels;
   // A relief sits on a flat carrier; its normals stay the photographs', which hold its large forms too.
   if (options.scene == SceneKind::Relief && !options.seamless) flatten_relief(result.depth, mask);
-  fit_albedo_and_residual(photographs, result.lights, result);
+  fit_albedo_and_residual(photographs, directions, params, result);
   const ImageF fitted_albedo = mask.select(result.albedo_map, 0.0f);
   std::vector<float> values;
   for (Eigen::Index i = 0; i < fitted_albedo.size(); ++i)
@@ -168,7 +148,6 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   if (values.empty()) throw InvalidArgument("shadecut: every photograph is dark everywhere in the mask; nothing to reconstruct");
   std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(values.size() / 2), values.end());
   result.albedo = albedo.value_or(double(values[values.size() / 2]));
-  if (photographs.front().has_colour()) result.albedo_colour = delit_colour(photographs, result);
   progress.report(1.0, "integration");
   result.stats.seconds["total"] = total.seconds();
   return result;
