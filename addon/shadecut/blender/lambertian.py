@@ -40,7 +40,7 @@ from .lambertian_passes import LambertianRender, files_unavailable  # noqa: F401
 from .lambertian_scene import RenderError
 from .wording import short_number
 
-INDIRECT_SAMPLES = 512  # default samples with indirect light: its noise is then 0.4% rms (README)
+INDIRECT_SAMPLES = 512  # default samples with indirect light: their noise is measured in docs/datasets_and_evaluation.md
 
 
 def mesh_objects(context, selected_only: bool = True) -> list:

@@ -221,12 +221,12 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     density: bpy.props.IntProperty(
         name="Density", default=1, min=1, soft_max=16,
         description="With Auto density off, one vertex every this many pixels (1 = every pixel: a 2048 px "
-                    "result has 4.2 million vertices and takes about 2.4 s to build)",
+                    "result has 4.2 million vertices, slow to build and to draw)",
     )
     max_vertices: bpy.props.IntProperty(
         name="Vertex limit", default=MAX_VERTICES, min=4, soft_max=4_000_000,
         description="Vertex budget of the automatic density. 250,000 (half a million triangles) keeps Material "
-                    "Preview interactive on a modest GPU; a 2048 px result then builds in under 0.5 s",
+                    "Preview interactive on a modest GPU and the result quick to build",
     )
     normal_map: bpy.props.BoolProperty(
         name="Normal map", default=False,

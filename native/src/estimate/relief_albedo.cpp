@@ -13,8 +13,8 @@ double median_intensity(const ImageF& image, const Mask& mask) {
   const Eigen::Index count = mask.count();
   if (count == 0) throw InvalidArgument("shadecut: the mask selects no pixel");
   // The (count / 2)-th smallest masked value, selected by two counting passes over 16 bits each of the
-  // floats' order-preserving keys: no copy and no partial sort of 4 MP (an nth_element took 15-24 ms
-  // there, and a relief asks three times).
+  // floats' order-preserving keys: no copy and no partial sort of the whole image, which a relief
+  // asks for three times (docs/benchmarks.md has the cost).
   auto key = [](float value) {
     std::uint32_t bits;
     std::memcpy(&bits, &value, sizeof bits);

@@ -101,7 +101,7 @@ Field masked_blur(Field values, const Mask& mask, double sigma) {
   return values;
 }
 
-// log(max(image, floor)) in double, rows in parallel (a serial pass costs 40 ms at 4 MP).
+// log(max(image, floor)) in double, rows in parallel (a serial pass is a visible share of a large relief's call).
 Field parallel_logarithm(const ImageF& image, double floor) {
   Field logarithm(image.rows(), image.cols());
   detail::parallel_for(int(image.rows()), kRowsPerChunk, 0, [&](int r) {

@@ -153,8 +153,8 @@ void gradient_step(const Problem& problem, const Field& z, double beta, Split& s
   });
 }
 
-// The Poisson solve's relative tolerance: the step needs no more (a tighter one changed the training
-// error by 0.003 deg).
+// The Poisson solve's relative tolerance: the step needs no more (a tighter one does not change the
+// training error; docs/parameters.md, "Fitting the depth to the image").
 constexpr double kPoissonTolerance = 1e-2;
 
 // The depth step: the correction dz toward min beta |C (z + dz) - (g - u)|^2 + mu^2 |L (z + dz - z0)|^2,
@@ -212,9 +212,8 @@ void dual_step(const Problem& problem, const Field& z, const Field& next, Split&
   });
 }
 
-// The coupling beta: this share of the data term's mean curvature |J|^2 over the fitted pixels. Small
-// enough for large steps (in a trial, 0.03-0.1 gave the lowest error after 10 steps: 4.78 deg, 1 and 3
-// gave 5.08 and 5.35).
+// The coupling beta: this share of the data term's mean curvature |J|^2 over the fitted pixels, small
+// enough for large steps (the trial that chose it: docs/parameters.md, "Fitting the depth to the image").
 constexpr double kCoupling = 0.1;
 
 double coupling(const Problem& problem, const Field& z) {
@@ -319,9 +318,8 @@ LevelFit admm(const Problem& problem, Field z, Split split, int coarse_steps, in
 
 // Levels are made smaller by this factor until the object is at most kCoarsestSize pixels. Steps at
 // a level: kStepsAtReference at the reference object size, in inverse proportion to the level's
-// pixel count (the same work at every level), at least 1 and at most max_steps. Measured on the
-// training surfaces (128 and 256 px, fit_smoothness 0.1, mean error): coarsest 64 px and 8 steps
-// 3.65 deg, coarsest 32 px and 4, 8, 16 steps 3.32, 3.28, 3.15 deg.
+// pixel count (the same work at every level), at least 1 and at most max_steps; chosen on the training
+// surfaces (docs/parameters.md, "Fitting the depth to the image").
 constexpr int kLevelFactor = 2;
 constexpr double kCoarsestSize = 32.0;
 constexpr double kStepsAtReference = 16.0;
@@ -384,7 +382,7 @@ FitShadingStats fit_shading(ImageF& depth, const ImageF& image, const Mask& mask
   if (!(albedo > 0.0) || !(light.z() > 0.0) || !(params.smoothness >= 0.0) || params.max_steps < 0)
     throw InvalidArgument("shadecut: fit_shading needs albedo > 0, S_z > 0, smoothness >= 0 and max_steps >= 0");
   // The residual of a float depth as brightness_residual takes it (normals_from_depth's differences),
-  // in parallel and without normal maps (two of those took 0.1 s at a megapixel).
+  // in parallel and without normal maps (which cost as much as the step itself at a megapixel).
   const Eigen::Vector3d direction = light.normalized();
   const auto residual_of = [&](const ImageF& candidate) {
     const Problem whole{image, mask, fitted, direction, albedo, 0.0, candidate.cast<double>(), MaskComponents{}};
