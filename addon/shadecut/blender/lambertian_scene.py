@@ -13,7 +13,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
-from .capabilities import set_cast_shadow
+from .capabilities import set_cast_shadow, set_multilayer_exr
 
 # The camera of the fitted view looks along world +Y with world +Z up (Blender's "front" view), so
 # camera x = world X, camera y = world Z, camera z (toward the viewer) = world -Y.
@@ -145,6 +145,7 @@ class Temporary:
 
     blocks: list = field(default_factory=list)  # data-blocks, objects first (they use the others)
     swapped_slots: list = field(default_factory=list)  # (material slot, original material), own colours
+    given_slots: list = field(default_factory=list)  # meshes without materials given a stand-in's slot
 
     def add(self, block):
         if isinstance(block, bpy.types.Object):
@@ -161,6 +162,8 @@ class Temporary:
         """Puts the swapped materials back and deletes the scene and every temporary data-block."""
         for slot, material in reversed(self.swapped_slots):
             slot.material = material
+        for mesh in reversed(self.given_slots):
+            mesh.materials.pop()
         bpy.data.scenes.remove(scene)
         for block in self.blocks:
             getattr(bpy.data, _COLLECTION[type(block).__name__]).remove(block)
@@ -214,6 +217,14 @@ def set_materials(view_layer, objects, albedo: Optional[float], temporary: Tempo
         return
     stand_ins = {}
     for ob in objects:
+        if not ob.material_slots:
+            # Blender's surface for objects without a material is diffuse 0.8 grey before 5.0 and glossy
+            # since: the stand-in of "no material" makes it the same Lambertian grey in every version.
+            if None not in stand_ins:
+                stand_ins[None] = temporary.add(own_colour_material(None))
+            ob.data.materials.append(stand_ins[None])
+            temporary.given_slots.append(ob.data)
+            continue
         for slot in ob.material_slots:
             if slot.material in stand_ins.values():
                 continue  # a mesh shared with an object already done: its slot is swapped
@@ -256,7 +267,7 @@ def set_exact_cycles(scene, resolution, samples: int, indirect: bool, output: Pa
     view_layer.cycles.use_denoising = False
     for name in ("combined", "normal", "position", "diffuse_color", "diffuse_direct"):
         setattr(view_layer, f"use_pass_{name}", True)
-    render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    set_multilayer_exr(render.image_settings)
     render.image_settings.color_depth = "32"
     render.image_settings.exr_codec = "ZIP"
     render.filepath = str(output)
