@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The one test command: installs the dependencies, builds, and runs every test (C++, Python, and the add-on inside Blender).
+# The one test command: installs the dependencies, builds, and runs every test (C++, Python, and the add-on inside
+# Blender: Debian 12's, and in chroots Debian 13's and sid's, scripts/blender_versions.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Each stage says when it starts; the run ends with one line, whether every stage passed or which one
@@ -19,5 +20,7 @@ next "Python tests (pytest, system interpreter)"
 PYTHONPATH=addon /usr/bin/python3 -m pytest tests/python -q -p no:cacheprovider
 next "Blender tests (pytest inside headless Blender)"
 blender -b --factory-startup --python-exit-code 1 -P tests/blender/run_pytest.py -- tests/blender -q
+next "Blender tests in Debian 13's Blender 4.3 and sid's 5.x (chroots made once, then reused)"
+bash scripts/blender_versions.sh trixie sid
 next "C++ tests and the CLI under AddressSanitizer and UBSan"
 bash scripts/sanitize.sh
