@@ -46,7 +46,14 @@ ProgressCallback python_progress(const std::optional<py::function>& progress) {
     return [callback = *progress](double fraction, const std::string& stage) {
       py::gil_scoped_acquire gil;
       const py::object answer = callback(fraction, stage);
-      return answer.is_none() || PyObject_IsTrue(answer.ptr()) == 1;
+      if (answer.is_none()) return true;
+      const int truth = PyObject_IsTrue(answer.ptr());
+      if (truth < 0) {  // an answer with no truth value (an array) is a mistake, not a cancel
+        PyErr_Clear();
+        throw py::type_error("shadecut: the progress callback returned " + py::repr(answer).cast<std::string>() +
+                             "; return None or True to go on, False to cancel");
+      }
+      return truth == 1;
     };
   }
   // Python runs its Ctrl+C handler only between bytecodes, never during this call: without a

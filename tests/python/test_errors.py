@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import shadecut
+from shadecut import synthetic
 
 GOOD = np.full((16, 16), 0.5, np.float32)
 GOOD[4:12, 4:12] = np.linspace(0.2, 0.9, 8, dtype=np.float32)
@@ -308,3 +309,33 @@ def test_a_call_too_large_for_the_memory_it_may_use_is_refused_at_once():
     assert stages_begun == "0"  # refused before any stage's work, not after running out
     needed, available = re.search(r"needs about ([\d.]+) GB for 8192 x 8192 pixels, but only ([\d.]+) GB can be", message).groups()
     assert float(needed) > 10 and float(available) < 3 and "max_pixels" in message
+
+
+def test_options_outside_what_makes_sense_are_refused_with_their_range():
+    """Issue 48: findings 5 (a paint line width that allocated gigabytes), 11 (a detail size that left a
+    depth of 0), 21 (retinex_passes=10**9 ran until cancelled), each refused with the allowed range."""
+    scene = synthetic.sphere((1.0, 0.0, 1.0), size=32)
+    for overrides, message in [
+        ({"paint_line_width": 46341, "scene": "relief"}, r"paint_line_width must be in 0 \.\. 1024; got 46341"),
+        ({"detail_size": 2.0, "scene": "relief"}, r"detail_size must be 0 .* or at least 5 pixels"),
+        ({"retinex_passes": 10**9, "albedo_method": "retinex"}, r"retinex_passes must be in 1 \.\. 10"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            shadecut.reconstruct(scene.image, scene.light, None, **overrides)
+
+
+@pytest.mark.parametrize("name, value", [("refine", None), ("cut_out", 2), ("threads", True), ("labels", 36.0),
+                                         ("data_weight", False), ("fill_shadows", "yes")])
+def test_an_option_takes_only_values_of_its_kind(name, value):
+    """Issue 48, finding 15: refine=None silently meant False, cut_out=2 and threads=True were taken."""
+    with pytest.raises(TypeError, match=f"option '{name}' cannot be"):
+        shadecut.ReconstructOptions(**{name: value})
+    assert shadecut.ReconstructOptions(refine=np.bool_(False)).refine is False
+    assert shadecut.ReconstructOptions(labels=np.int64(24)).labels == 24
+
+
+def test_a_progress_answer_without_a_truth_value_is_an_error_not_a_cancel():
+    """Issue 48, finding 19: a callback returning an array was reported as 'cancelled by the callback'."""
+    scene = synthetic.sphere((1.0, 0.0, 1.0), size=32)
+    with pytest.raises(TypeError, match="the progress callback returned array"):
+        shadecut.reconstruct(scene.image, scene.light, scene.mask, progress=lambda fraction, stage: np.ones(2))

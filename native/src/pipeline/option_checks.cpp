@@ -3,6 +3,7 @@
 #include <shadecut/pipeline/option_table.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/memory.hpp>
+#include <shadecut/support/validate.hpp>
 
 #include <string>
 
@@ -14,6 +15,10 @@ namespace {
 // "Memory", measures both).
 constexpr double kPeakBytesPerPixel = 180.0;
 constexpr double kPeakBytesPerLabelPixel = 20.0;
+
+// The finest detail size the damping resolves: below it its blur (three boxes, damp_large_forms) has
+// a radius of 0 and would take every form away, leaving a depth of 0.
+constexpr double kMinDetailSize = 5.0;
 
 void check_memory(const ReconstructOptions& options, const Mask& mask) {
   const std::uint64_t needed = estimated_peak_memory(options, std::int64_t(mask.size()));
@@ -35,6 +40,10 @@ std::uint64_t estimated_peak_memory(const ReconstructOptions& options, std::int6
 void check_options(const ReconstructOptions& options, const Mask& mask) {
   check_memory(options, mask);
   check_option_ranges(options);
+  if (options.detail_size > 0.0 && options.detail_size < kMinDetailSize)
+    throw InvalidArgument("shadecut: detail_size must be 0 (read from the image), < 0 (keep every form) or at least " +
+                          std::to_string(int(kMinDetailSize)) + " pixels (finer forms are the detail itself); got " +
+                          number_text(options.detail_size));
   if (options.seamless && options.scene != SceneKind::Relief)
     throw InvalidArgument("shadecut: seamless output is for reliefs that fill the image; set scene to relief");
   if (options.seamless && !mask.all())
