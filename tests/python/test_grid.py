@@ -2,6 +2,8 @@
 grid of coarse to fine (rows and columns at multiples of 8-64 px), measured by
 shadecut.evaluation.grid_step_ratio (within 1.1 of the step elsewhere)."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -9,6 +11,8 @@ import shadecut
 from shadecut import synthetic
 from shadecut.evaluation import grid_step_ratio
 from shadecut.imaging import srgb_to_linear
+
+REPO = Path(__file__).resolve().parents[2]
 
 # test_relief.py's lights: oblique, from three sides, none used by the parameter tuning.
 LIGHTS = [(0.6, 0.3, 1.0), (-0.5, 0.7, 1.0), (1.0, -0.2, 0.8)]
@@ -105,3 +109,33 @@ def test_objects_have_no_block_grid(name, mozart_path):
     ratio = grid_step_ratio(result.normals, scene.mask)
     print(f"{name}: {ratio:.3f} (truth {grid_step_ratio(scene.normals, scene.mask):.3f})")
     assert ratio <= BOUND
+
+
+def test_seams_are_found_wherever_a_rectangle_of_normals_is_turned():
+    """seam_pixels finds the rectangles a blocky labelling leaves, at any position, and nothing on a
+    smooth surface: a sphere with a 40 x 30 block of its normals turned by 5 degrees at an odd place."""
+    from shadecut.evaluation import metrics
+
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=128)
+    assert metrics.seam_share(sphere.normals, sphere.mask) == 0.0
+    blocky = sphere.normals.copy()
+    turn = np.radians(5.0)
+    rotation = np.array([[np.cos(turn), 0.0, np.sin(turn)], [0.0, 1.0, 0.0], [-np.sin(turn), 0.0, np.cos(turn)]])
+    blocky[37:67, 45:85] = blocky[37:67, 45:85] @ rotation.T
+    seams = metrics.seam_pixels(blocky, sphere.mask)
+    rows, cols = np.nonzero(seams)
+    assert seams.sum() >= 2 * (40 + 30) - 8
+    assert set(rows) <= {36, 37, 65, 66, *range(37, 67)} and set(cols) <= {44, 45, 83, 84, *range(45, 85)}
+
+
+def test_the_truth_of_mozart_and_a_smooth_result_have_no_seams():
+    """The paper's bust: its true normals have almost none (a coat edge), a blurred result none
+    (docs/results.md gives today's result's share)."""
+    from scipy import ndimage
+    from shadecut.evaluation import metrics
+
+    bust = synthetic.mozart(REPO / "data" / "mozart" / "moz256.depth", light=(1.0, 0.0, 1.0))
+    result = shadecut.reconstruct(bust.image, bust.light, bust.mask)
+    smooth = np.stack([ndimage.gaussian_filter(result.normals[..., k], 3) for k in range(3)], axis=-1)
+    assert metrics.seam_share(bust.normals, bust.mask) < 0.1
+    assert metrics.seam_share(smooth, bust.mask) == 0.0

@@ -17,7 +17,7 @@ the error message. Angles are in degrees, depth in pixel units.
 from .figures import save_strip
 from .inputs import EvaluationError, check_methods, prepare_output, read_manifest, write_synthetic_dataset
 from .metrics import (ERODE_PIXELS, GRID_PERIODS, METRICS, THRESHOLDS, depth_errors, grid_step_ratio, light_error,
-                      mask_parts, normal_errors)
+                      mask_parts, normal_errors, seam_pixels, seam_share)
 from .real import FLAT, evaluate_object, evaluate_real, find_objects, flat_record, import_objects
 from .report import CSV_COLUMNS, method_table, real_table, shape_table, write_results
 from .summary import summarize
@@ -54,6 +54,8 @@ __all__ = [
     "real_table",
     "save_strip",
     "shape_table",
+    "seam_pixels",
+    "seam_share",
     "summarize",
     "write_results",
     "write_synthetic_dataset",

@@ -108,6 +108,24 @@ def light_error(estimated: Sequence[float], truth: Sequence[float]) -> float:
     return float(np.degrees(np.arctan2(np.linalg.norm(np.cross(a, b)), np.dot(a, b))))
 
 
+def _unit_normals(normals, mask) -> tuple[np.ndarray, np.ndarray]:
+    """Unit normals (H x W x 3, 0 outside) and where they are: in ``mask`` (default every pixel), finite, not zero."""
+    normals = np.asarray(normals, dtype=np.float64)
+    if normals.ndim != 3 or normals.shape[2] != 3:
+        raise ValueError(f"normals must be H x W x 3, got {normals.shape}")
+    length = np.linalg.norm(normals, axis=2)
+    inside = np.isfinite(length) & (length > 0)
+    if mask is not None:
+        inside &= np.asarray(mask, dtype=bool)
+    return np.where(inside[..., None], normals / np.where(inside, length, 1.0)[..., None], 0.0), inside
+
+
+def _steps(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Angles (radians) between unit normals: atan2 of |a x b| and a . b, accurate for the small angles
+    between neighbours, where arccos is not."""
+    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+
+
 GRID_PERIODS = (8, 16, 32, 64)  # pixels: the blocks of coarse to fine at 2, 3, 4 and 5 levels below the image
 
 
@@ -126,25 +144,14 @@ def grid_step_ratio(normals: np.ndarray, mask: np.ndarray | None = None, periods
     bool, default every pixel. Raises ValueError when either kind of boundary has no step to measure
     (an image smaller than the smallest period) or the steps off the grid are all zero (a plane).
     """
-    normals = np.asarray(normals, dtype=np.float64)
-    if normals.ndim != 3 or normals.shape[2] != 3:
-        raise ValueError(f"normals must be H x W x 3, got {normals.shape}")
-    length = np.linalg.norm(normals, axis=2)
-    inside = np.isfinite(length) & (length > 0)
-    if mask is not None:
-        inside &= np.asarray(mask, dtype=bool)
-    unit = np.where(inside[..., None], normals / np.where(inside, length, 1.0)[..., None], 0.0)
-
-    def steps(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        # atan2 of |a x b| and a . b: accurate for the small angles between neighbours, where arccos is not.
-        return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+    unit, inside = _unit_normals(normals, mask)
 
     def on_grid(count: int) -> np.ndarray:
         index = np.arange(1, count)  # boundary i lies between i - 1 and i
         return np.any([index % period == 0 for period in periods], axis=0)
 
-    across_columns = steps(unit[:, :-1], unit[:, 1:])
-    across_rows = steps(unit[:-1], unit[1:])
+    across_columns = _steps(unit[:, :-1], unit[:, 1:])
+    across_rows = _steps(unit[:-1], unit[1:])
     both_columns = inside[:, :-1] & inside[:, 1:]
     both_rows = inside[:-1] & inside[1:]
     grid_columns = np.broadcast_to(on_grid(normals.shape[1])[None, :], across_columns.shape)
@@ -158,3 +165,48 @@ def grid_step_ratio(normals: np.ndarray, mask: np.ndarray | None = None, periods
     if off_mean <= 0.0:
         raise ValueError("the normals do not change off the grid: no step to compare with")
     return float(np.mean(on)) / off_mean
+
+
+SEAM_STEP_DEG = 1.0  # a seam's step exceeds the steps of the boundaries beside it by this much
+SEAM_LENGTH = 24  # pixels: a seam is straight over at least this many pixels along a row or a column
+SEAM_SHARE = 0.9  # of which at least this share steps
+
+
+def seam_pixels(normals: np.ndarray, mask: np.ndarray | None = None) -> np.ndarray:
+    """The pixels on axis-aligned straight seams of a normal map: the rectangles a blocky labelling
+    leaves, at any position (grid_step_ratio sees only those on a fixed grid).
+
+    A boundary between rows r and r + 1 (or columns) *steps* at a pixel when the angle between the two
+    normals there exceeds, by SEAM_STEP_DEG, the largest step of the two boundaries on either side of
+    it: a local maximum across the boundary, which a smooth surface, however curved, does not make. A
+    seam is a run of at least SEAM_LENGTH pixels along the boundary of which SEAM_SHARE step. Returns
+    H x W bool, true on the pixel above (left of) each stepping pixel of a seam.
+    """
+    unit, inside = _unit_normals(normals, mask)
+    seams = np.zeros(inside.shape, dtype=bool)
+    for transposed in (False, True):
+        n = unit.transpose(1, 0, 2) if transposed else unit
+        m = inside.T if transposed else inside
+        both = m[:-1] & m[1:]
+        step = np.where(both, np.degrees(_steps(n[:-1], n[1:])), np.nan)
+        padded = np.pad(step, ((2, 2), (0, 0)), constant_values=np.nan)
+        beside = np.stack([padded[2 + k:padded.shape[0] - 2 + k] for k in (-2, -1, 1, 2)])
+        with np.errstate(all="ignore"):
+            largest_beside = np.where(np.isnan(beside).all(axis=0), 0.0, np.nanmax(np.nan_to_num(beside, nan=-np.inf), axis=0))
+        stepped = both & (np.nan_to_num(step - largest_beside, nan=-1.0) > SEAM_STEP_DEG)
+        kernel = np.ones(SEAM_LENGTH)
+        counts = np.apply_along_axis(lambda row: np.convolve(row, kernel, mode="same"), 1, stepped.astype(float))
+        long_run = counts >= SEAM_SHARE * SEAM_LENGTH
+        spread = np.apply_along_axis(lambda row: np.convolve(row, kernel, mode="same"), 1, long_run.astype(float)) > 0
+        on_seam = np.zeros(m.shape, dtype=bool)
+        on_seam[:-1] = spread & stepped
+        seams |= on_seam.T if transposed else on_seam
+    return seams
+
+
+def seam_share(normals: np.ndarray, mask: np.ndarray | None = None) -> float:
+    """Percent of the masked pixels on straight seams (seam_pixels): about 0 for a smooth surface."""
+    _, inside = _unit_normals(normals, mask)
+    if not inside.any():
+        raise ValueError("no normal to measure: the mask is empty or every normal is zero")
+    return 100.0 * float(seam_pixels(normals, mask).sum()) / float(inside.sum())
