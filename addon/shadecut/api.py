@@ -89,6 +89,40 @@ def _real(values) -> np.ndarray:
     return array
 
 
+def _whole(name: str, value, low: int, high: int = 2**31 - 1) -> int:
+    """``value`` as a whole number in [low, high]; TypeError or ValueError naming ``name`` and the range."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"shadecut: {name} is a whole number from {low} to {high}; got {value!r} ({type(value).__name__})")
+    if not low <= int(value) <= high:
+        raise ValueError(f"shadecut: {name} must be from {low} to {high}; got {value}")
+    return int(value)
+
+
+def _albedo(albedo) -> Optional[float]:
+    """One albedo for the whole image, or None; a per-pixel array or a string is refused with what to do."""
+    if albedo is None:
+        return None
+    if isinstance(albedo, (str, bytes)) or np.ndim(albedo) != 0 or isinstance(albedo, (bool, np.bool_)):
+        raise TypeError(f"shadecut: albedo is one number (> 0) for the whole surface, or None to estimate it; got "
+                        f"{type(albedo).__name__}{' of shape ' + str(np.shape(albedo)) if np.ndim(albedo) else ''}. "
+                        "A painted surface's albedo per pixel is read with albedo_method='retinex'")
+    return float(albedo)
+
+
+def _progress(progress) -> Optional[ProgressCallback]:
+    if progress is not None and not callable(progress):
+        raise TypeError(f"shadecut: progress is a function progress(fraction, stage) or None; got {type(progress).__name__}")
+    return progress
+
+
+def _options(options, kind: type, example: str):
+    """``options`` when of ``kind`` (None: the defaults), else TypeError with an example."""
+    if options is not None and not isinstance(options, kind):
+        raise TypeError(f"shadecut: options must be a {kind.__name__}, not a {type(options).__name__}: "
+                        f"options={kind.__name__}({example}), or the fields as keywords ({example})")
+    return options or kind()
+
+
 def _mask(mask) -> Optional[np.ndarray]:
     return None if mask is None else np.ascontiguousarray(mask, dtype=bool)
 
@@ -148,12 +182,9 @@ def reconstruct(
         ``light`` (and ``lights``, one per photograph), ``residual`` (several photographs) and
         ``stats`` (a :class:`ReconstructStats`).
     """
-    if options is not None and not isinstance(options, ReconstructOptions):
-        raise TypeError(f"shadecut: options must be a ReconstructOptions, not a {type(options).__name__}: "
-                        "options=ReconstructOptions(labels=24), or the fields as keywords (labels=24)")
-    chosen = (options or ReconstructOptions()).replace(**overrides)
+    chosen = _options(options, ReconstructOptions, "labels=24").replace(**overrides)
     images, lights = _photographs(image, light)
-    return _core.reconstruct(images, lights, _mask(mask), albedo, chosen, progress)
+    return _core.reconstruct(images, lights, _mask(mask), _albedo(albedo), chosen, _progress(progress))
 
 
 def _photographs(image, light) -> tuple[list, Optional[list]]:
@@ -210,7 +241,7 @@ def cut_out(image, options: Optional[CutOutOptions] = None, *, progress: Optiona
         ``low_contrast`` when too little of the outline is seen (a dark background meeting the
         object's shadow). Method: docs/method.md, "Cutting out".
     """
-    chosen = options or CutOutOptions()
+    chosen = _options(options, CutOutOptions, "smoothness=20")
     if overrides:
         copy = CutOutOptions()
         for name in dir(chosen):
@@ -221,7 +252,7 @@ def cut_out(image, options: Optional[CutOutOptions] = None, *, progress: Optiona
                 raise TypeError(f"shadecut: unknown cut-out option '{name}'")
             setattr(copy, name, value)
         chosen = copy
-    mask, outcome, contrast, noise, share, message = _core.cut_out(_real(image), chosen, progress)
+    mask, outcome, contrast, noise, share, message = _core.cut_out(_real(image), chosen, _progress(progress))
     return CutOut(mask=mask, outcome=outcome, outline_contrast=float(contrast), background_noise=float(noise),
                   border_share=float(share), message=message)
 
@@ -298,7 +329,7 @@ def mask_components(mask) -> tuple[np.ndarray, int]:
 
 def erode_mask(mask, pixels: int) -> np.ndarray:
     """The mask shrunk by ``pixels`` steps of 4-neighbour erosion (the image border erodes too)."""
-    return _core.erode_mask(_mask(mask), int(pixels))
+    return _core.erode_mask(_mask(mask), _whole("pixels", pixels, 0))
 
 
 def method_defaults(method: str | Method) -> MethodDefaults:
@@ -345,7 +376,10 @@ def estimate_albedo(image, mask=None, method: Optional[str] = None,
     """
     if method is None:
         method = ReconstructOptions().albedo_method
-    return _core.estimate_albedo(_real(image), _mask(mask), getattr(method, "name", method), window)
+    if window is not None and (np.ndim(window) != 1 or len(window) != 3):
+        raise ValueError(f"shadecut: window is three numbers (from, to, agreement); got {window!r}")
+    return _core.estimate_albedo(_real(image), _mask(mask), getattr(method, "name", method),
+                                 None if window is None else tuple(float(v) for v in window))
 
 
 def estimate_reflectance(image, mask=None, shading=None, *, options: Optional[ReconstructOptions] = None,
@@ -368,7 +402,7 @@ def estimate_reflectance(image, mask=None, shading=None, *, options: Optional[Re
         (H, W) float32 reflectance relative to the object's bright paint: 1 at its 90th percentile
         over the mask, 1 outside it. The image divided by it is the shading image of one albedo.
     """
-    chosen = (options or ReconstructOptions()).replace(**overrides)
+    chosen = _options(options, ReconstructOptions, "retinex_rim=2").replace(**overrides)
     return _core.estimate_reflectance(_real(image), _mask(mask), chosen, None if shading is None else _real(shading))
 
 
@@ -439,6 +473,7 @@ def vertex_step(mask, max_vertices: int = MAX_VERTICES) -> int:
     """The smallest sampling step (for :func:`height_field_mesh` and :func:`save_mesh`) that leaves at
     most ``max_vertices`` vertices on ``mask`` (H, W) bool; 1 when every masked pixel fits."""
     mask = _mask(mask)
+    _whole("max_vertices", max_vertices, 1, 2**62)
     height, width = mask.shape
     return next(step for step in range(1, max(height, width) + 1)
                 if np.count_nonzero(mask[::step, ::step]) <= max_vertices)
@@ -447,4 +482,4 @@ def vertex_step(mask, max_vertices: int = MAX_VERTICES) -> int:
 def save_mesh(path: str | os.PathLike, depth, mask=None, step: int = 1) -> None:
     """Writes the height field sampled every ``step`` pixels as a .ply or .obj triangle mesh, vertices
     at (column, -row, depth) in pixel units (:func:`height_field_mesh`'s)."""
-    _image_files().save_mesh(os.fspath(path), _real(depth), _mask(mask), int(step))
+    _image_files().save_mesh(os.fspath(path), _real(depth), _mask(mask), _whole("step", step, 1))

@@ -339,3 +339,26 @@ def test_a_progress_answer_without_a_truth_value_is_an_error_not_a_cancel():
     scene = synthetic.sphere((1.0, 0.0, 1.0), size=32)
     with pytest.raises(TypeError, match="the progress callback returned array"):
         shadecut.reconstruct(scene.image, scene.light, scene.mask, progress=lambda fraction, stage: np.ones(2))
+
+
+def test_wrong_kinds_of_argument_get_a_sentence_not_a_signature_dump():
+    """Issue 48, finding 18: pybind11's 'incompatible function arguments' dumps, a bare StopIteration and
+    an AttributeError, each now a sentence naming the argument and what it takes."""
+    scene = synthetic.sphere((1.0, 0.0, 1.0), size=32)
+    cases = [
+        (lambda: shadecut.reconstruct(scene.image, scene.light, scene.mask, albedo=np.ones((32, 32))),
+         TypeError, "albedo is one number .* albedo_method='retinex'"),
+        (lambda: shadecut.reconstruct(scene.image, scene.light, scene.mask, albedo="0.5"), TypeError, "albedo is one number"),
+        (lambda: shadecut.reconstruct(scene.image, scene.light, scene.mask, progress=5), TypeError, "progress is a function"),
+        (lambda: shadecut.erode_mask(scene.mask, 2**40), ValueError, "pixels must be from 0 to"),
+        (lambda: shadecut.estimate_albedo(scene.image, scene.mask, window=(0.1, 0.2)), ValueError, "window is three numbers"),
+        (lambda: shadecut.cut_out(scene.image, options=shadecut.ReconstructOptions()), TypeError, "must be a CutOutOptions"),
+        (lambda: shadecut.vertex_step(scene.mask, -1), ValueError, "max_vertices must be from 1"),
+        (lambda: shadecut.estimate_reflectance(scene.image, options={"retinex_rim": 2}), TypeError,
+         "must be a ReconstructOptions, not a dict"),
+    ]
+    for call, kind, message in cases:
+        with pytest.raises(kind, match=message):
+            call()
+    with pytest.raises(ValueError, match="step must be from 1 to"):
+        shadecut.save_mesh("never_written.ply", scene.depth, scene.mask, step=2**31)
