@@ -362,3 +362,15 @@ def test_wrong_kinds_of_argument_get_a_sentence_not_a_signature_dump():
             call()
     with pytest.raises(ValueError, match="step must be from 1 to"):
         shadecut.save_mesh("never_written.ply", scene.depth, scene.mask, step=2**31)
+
+
+def test_a_highlight_threshold_below_the_albedo_and_a_flip_of_an_infinite_depth_are_refused():
+    """Issue 48, finding 21: highlight_threshold=1e-9 called every pixel a highlight; flip turned an
+    infinite depth into NaN everywhere."""
+    scene = synthetic.sphere((1.0, 0.0, 1.0), size=32)
+    with pytest.raises(ValueError, match=r"highlight_threshold must be <= 0 \(never\) or at least 1"):
+        shadecut.reconstruct(scene.image, scene.light, scene.mask, highlight_threshold=1e-9)
+    depth = scene.depth.copy()
+    depth[16, 16] = np.inf
+    with pytest.raises(ValueError, match=r"NaN or infinite inside the mask, at pixel \(16, 16\)"):
+        shadecut.flip(depth, scene.normals, scene.mask)

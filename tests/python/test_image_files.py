@@ -154,3 +154,44 @@ def test_the_channel_names_of_an_exr_are_read_from_its_header(tmp_path, names):
     with mapped(tmp_path / "a.exr") as data:  # as the add-on reads it: a mapped file, not bytes
         assert sorted(exr_channel_names(data)) == sorted(names)
     assert exr_channel_names(noisy(tmp_path / "a.png").read_bytes()) is None
+
+
+@pytest.mark.parametrize("orientation", range(1, 9))
+def test_load_image_turns_a_file_upright_by_its_exif_orientation(tmp_path, orientation):
+    """Issue 48, finding 9, in the library's reader (the CLI and load_image): as the add-on does."""
+    from shadecut.image_header import oriented
+
+    stored = np.random.default_rng(orientation).random((5, 8, 3)).astype(np.float32)
+    path = stored_with(tmp_path / "a.tif", stored, orientation)
+    raw = oiio.ImageInput.open(str(path))
+    decoded = raw.read_image(oiio.FLOAT)
+    raw.close()
+    loaded = shadecut.load_image(path, color_space="linear")
+    np.testing.assert_allclose(loaded.colour, oriented(decoded, orientation), atol=1e-6)
+
+
+def test_load_image_takes_only_a_declared_alpha_and_channels_that_are_a_photograph(tmp_path):
+    """Issue 48, finding 14, in the library's reader: an undeclared second channel was the mask, a file
+    of several pages was read as its first, an EXR of channels foo, bar as a grey photograph."""
+    two = np.random.default_rng(0).random((6, 7, 2)).astype(np.float32)
+    spec = oiio.ImageSpec(7, 6, 2, oiio.FLOAT)
+    spec.channelnames = ("R", "G")
+    buffer = oiio.ImageBuf(spec)
+    buffer.set_pixels(oiio.ROI(), two)
+    assert buffer.write(str(tmp_path / "rg.tif"))
+    assert not shadecut.load_image(tmp_path / "rg.tif").has_alpha
+    spec.channelnames = ("foo", "bar")
+    buffer = oiio.ImageBuf(spec)
+    buffer.set_pixels(oiio.ROI(), two)
+    assert buffer.write(str(tmp_path / "foo.exr"))
+    with pytest.raises(OSError, match="none of its channels is named as colour or grey"):
+        shadecut.load_image(tmp_path / "foo.exr")
+    pages = oiio.ImageOutput.create(str(tmp_path / "pages.tif"))
+    page = oiio.ImageSpec(7, 6, 1, oiio.FLOAT)
+    assert pages.open(str(tmp_path / "pages.tif"), [page, page])
+    pages.write_image(two[..., 0].copy())
+    pages.open(str(tmp_path / "pages.tif"), page, "AppendSubimage")
+    pages.write_image(two[..., 1].copy())
+    pages.close()
+    with pytest.raises(OSError, match="holds several images"):
+        shadecut.load_image(tmp_path / "pages.tif")

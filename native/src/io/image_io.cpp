@@ -165,6 +165,59 @@ struct Triangle {
   std::int32_t a, b, c;
 };
 
+// The pixels (rows x cols x channels, row-major) as viewers show a file of EXIF `orientation` (1-8):
+// its stored rows turned and mirrored upright (6: turned 90 degrees clockwise, 8: counter-clockwise,
+// 3: 180 degrees, 2 and 4 mirrored, 5 and 7 mirrored across a diagonal). rows and cols become the
+// upright image's.
+void turn_upright(std::vector<float>& pixels, int& rows, int& cols, int channels, int orientation) {
+  if (orientation < 2 || orientation > 8) return;
+  const bool swaps = orientation >= 5;
+  const int out_rows = swaps ? cols : rows, out_cols = swaps ? rows : cols;
+  std::vector<float> upright(pixels.size());
+  for (int r = 0; r < out_rows; ++r)
+    for (int c = 0; c < out_cols; ++c) {
+      int sr = r, sc = c;  // the stored pixel shown at (r, c)
+      switch (orientation) {
+        case 2: sc = cols - 1 - c; break;
+        case 3: sr = rows - 1 - r; sc = cols - 1 - c; break;
+        case 4: sr = rows - 1 - r; break;
+        case 5: sr = c; sc = r; break;
+        case 6: sr = rows - 1 - c; sc = r; break;
+        case 7: sr = rows - 1 - c; sc = cols - 1 - r; break;
+        case 8: sr = c; sc = cols - 1 - r; break;
+      }
+      std::copy_n(&pixels[(std::size_t(sr) * std::size_t(cols) + std::size_t(sc)) * std::size_t(channels)],
+                  channels, &upright[(std::size_t(r) * std::size_t(out_cols) + std::size_t(c)) * std::size_t(channels)]);
+    }
+  pixels.swap(upright);
+  rows = out_rows;
+  cols = out_cols;
+}
+
+// The alpha channel the file declares (or names A), else none: a second channel that is not declared
+// alpha (TIFF R, G; EXR foo, bar) is not a mask.
+int declared_alpha(const OIIO::ImageSpec& spec) {
+  if (spec.nchannels > 1 && spec.alpha_channel >= 0 && spec.alpha_channel < spec.nchannels) return spec.alpha_channel;
+  for (int channel = 0; channel < spec.nchannels; ++channel) {
+    const std::string name = lowercase(spec.channel_name(channel));
+    if (spec.nchannels > 1 && (name == "a" || name == "alpha")) return channel;
+  }
+  return -1;
+}
+
+// Whether the file's channels say what they hold: one channel, or some of them named as colour or
+// grey (R, G, B, Y, or a layer's .R ...). Channels of other names (depth, foo) are no photograph.
+bool names_colour_or_grey(const OIIO::ImageSpec& spec) {
+  if (spec.nchannels == 1) return true;
+  for (int channel = 0; channel < spec.nchannels; ++channel) {
+    std::string name = lowercase(spec.channel_name(channel));
+    if (const std::size_t dot = name.rfind('.'); dot != std::string::npos) name = name.substr(dot + 1);
+    if (name == "r" || name == "g" || name == "b" || name == "y" || name == "red" || name == "green" || name == "blue")
+      return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 ColorSpace parse_color_space(const std::string& name) {
@@ -211,10 +264,17 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
     throw IoError("cannot read image \"" + path + "\": " + reason);
   }
 
-  int alpha = channels > 1 ? spec.alpha_channel : -1;
-  if (alpha < 0 || alpha >= channels) alpha = default_alpha_channel(channels);
+  // Which one is meant is unknown: the first would be read without a word.
+  if (input->seek_subimage(1, 0))
+    throw IoError("cannot read image \"" + path + "\": it holds several images (the pages of a TIFF, the frames of a "
+                  "GIF); save the one to read as a file of its own");
+  if (!names_colour_or_grey(spec))
+    throw IoError("cannot read image \"" + path + "\": none of its channels is named as colour or grey (R, G, B or Y)");
+  const int alpha = declared_alpha(spec);
   const bool srgb = decode_as_srgb(color_space, spec);
-  Intensity decoded = intensity_from_pixels(pixels.data(), spec.height, spec.width, channels, alpha, srgb);
+  int rows = spec.height, cols = spec.width;
+  turn_upright(pixels, rows, cols, channels, spec.get_int_attribute("Orientation", 1));
+  Intensity decoded = intensity_from_pixels(pixels.data(), rows, cols, channels, alpha, srgb);
 
   LoadedImage loaded;
   loaded.intensity = std::move(decoded.intensity);

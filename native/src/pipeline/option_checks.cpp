@@ -44,6 +44,10 @@ void check_options(const ReconstructOptions& options, const Mask& mask) {
     throw InvalidArgument("shadecut: detail_size must be 0 (read from the image), < 0 (keep every form) or at least " +
                           std::to_string(int(kMinDetailSize)) + " pixels (finer forms are the detail itself); got " +
                           number_text(options.detail_size));
+  // No Lambertian pixel is brighter than its albedo: a threshold below 1 would call lit pixels highlights.
+  if (options.highlight_threshold && *options.highlight_threshold > 0.0 && *options.highlight_threshold < 1.0)
+    throw InvalidArgument("shadecut: highlight_threshold must be <= 0 (never) or at least 1 (no Lambertian surface is "
+                          "brighter than its albedo); got " + number_text(*options.highlight_threshold));
   if (options.seamless && options.scene != SceneKind::Relief)
     throw InvalidArgument("shadecut: seamless output is for reliefs that fill the image; set scene to relief");
   if (options.seamless && !mask.all())
