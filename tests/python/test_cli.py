@@ -247,3 +247,19 @@ def test_several_photographs_each_with_its_light(tmp_path):
     assert scene.mean_error(np.asarray(normals.colour)) < 2.0
     short = run(*paths, "--light", lights[0], "--out", tmp_path / "short", "--quiet")
     assert short.returncode == 2 and "4 photographs but 1 --light" in short.stderr
+
+
+def test_the_system_reason_is_given_for_a_path_that_cannot_be_read(tmp_path):
+    """Issue 48, finding 20: a symbolic link loop read 'there is no such file', an empty file 'Not a PNG
+    file', a light just above the horizon 'S_z <= 0'."""
+    (tmp_path / "loop1").symlink_to(tmp_path / "loop2")
+    (tmp_path / "loop2").symlink_to(tmp_path / "loop1")
+    loop = run(tmp_path / "loop1", "--light", "1,0,1", "--out", tmp_path / "out")
+    assert loop.returncode == 2 and "Too many levels of symbolic links" in loop.stderr
+    (tmp_path / "empty.png").write_bytes(b"")
+    empty = run(tmp_path / "empty.png", "--light", "1,0,1", "--out", tmp_path / "out")
+    assert empty.returncode == 2 and "the file is empty (0 bytes)" in empty.stderr
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=32)
+    shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)
+    grazing = run(tmp_path / "sphere.png", "--light", "1,0,1e-12", "--out", tmp_path / "out", "--quiet")
+    assert grazing.returncode == 2 and "at or below the horizon (0 degrees above it)" in grazing.stderr, grazing.stderr

@@ -20,7 +20,10 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <system_error>
 #include <utility>
+
+#include <unistd.h>
 #include <vector>
 
 namespace shadecut {
@@ -233,11 +236,19 @@ LoadedImage load_image(const std::string& path, ColorSpace color_space, std::int
   std::error_code status;
   const std::filesystem::file_status kind = std::filesystem::status(path, status);
   if (std::filesystem::is_directory(kind)) throw IoError("cannot read image \"" + path + "\": it is a folder");
+  // The system's own reason (a loop of symbolic links, a name too long, a folder not searchable), not
+  // "no such file" for every path it could not look at.
+  if (status && status != std::errc::no_such_file_or_directory)
+    throw IoError("cannot read image \"" + path + "\": " + status.message());
   if (!std::filesystem::exists(kind)) throw IoError("cannot read image \"" + path + "\": there is no such file");
   // A named pipe blocks a reader until something writes to it and a device such as /dev/zero feeds
   // it bytes without end: neither is an image, and both are refused without being opened.
   if (!std::filesystem::is_regular_file(kind))
     throw IoError("cannot read image \"" + path + "\": it is " + special_file_kind(kind) + ", not a regular file");
+  if (::access(path.c_str(), R_OK) != 0)
+    throw IoError("cannot read image \"" + path + "\": " + std::generic_category().message(errno));
+  if (std::filesystem::file_size(path, status) == 0 && !status)
+    throw IoError("cannot read image \"" + path + "\": the file is empty (0 bytes)");
   auto input = OIIO::ImageInput::open(path, &config);
   if (!input) throw IoError("cannot read image \"" + path + "\": " + OIIO::geterror());
   const OIIO::ImageSpec spec = input->spec();

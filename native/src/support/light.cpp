@@ -1,8 +1,10 @@
 #include <shadecut/support/light.hpp>
 
 #include <shadecut/support/errors.hpp>
+#include <shadecut/support/validate.hpp>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 namespace shadecut {
@@ -16,8 +18,12 @@ LightFrame LightFrame::from_direction(const Eigen::Vector3d& light) {
   frame.direction = (light / largest).normalized();
   // A light at or below the horizon leaves part of every visible hemisphere unlit and the slant
   // formula undefined; the paper's model needs S_z > 0.
-  if (frame.direction.z() <= 1e-6)
-    throw InvalidArgument("shadecut: the light is at or below the horizon (S_z <= 0); it must point toward the viewer's side");
+  if (frame.direction.z() <= 1e-6) {
+    // In hundredths of a degree: what a user reads, and 0 rather than 6e-11 for a light on the horizon.
+    const double elevation = std::round(std::asin(std::clamp(frame.direction.z(), -1.0, 1.0)) * 18000.0 / M_PI) / 100.0 + 0.0;
+    throw InvalidArgument("shadecut: the light is at or below the horizon (" + number_text(elevation) +
+                          " degrees above it); it must come from the viewer's side, z > 0 (1,0,1 is 45 degrees up from the right)");
+  }
   frame.slant = std::acos(std::min(1.0, frame.direction.z()));
   frame.tilt = std::atan2(frame.direction.y(), frame.direction.x());
   frame.to_camera = (Eigen::AngleAxisd(frame.tilt, Eigen::Vector3d::UnitZ()) *
