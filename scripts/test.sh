@@ -20,7 +20,28 @@ next "Python tests (pytest, system interpreter)"
 PYTHONPATH=addon /usr/bin/python3 -m pytest tests/python -q -p no:cacheprovider
 next "Blender tests (pytest inside headless Blender)"
 blender -b --factory-startup --python-exit-code 1 -P tests/blender/run_pytest.py -- tests/blender -q
-next "Blender tests in Debian 13's Blender 4.3 and sid's 5.x (chroots made once, then reused)"
-bash scripts/blender_versions.sh trixie sid
 next "C++ tests and the CLI under AddressSanitizer and UBSan"
 bash scripts/sanitize.sh
+# The other Blenders last, in chroots (scripts/blender_versions.sh): each takes about a quarter of CI's
+# 90 minutes (docs/building_and_testing.md), so each runs only while the time left allows it, and says
+# so when it does not. Debian 13's 4.3 decides the run; sid's 5.x is reported but does not yet, while
+# one of its Cycles renders is not repeatable (docs/building_and_testing.md, "Other Blenders").
+budget=${SHADECUT_TEST_SECONDS:-5100}
+other_blender() {
+  local suite=$1 deciding=$2 left=$((budget - (SECONDS - started))) code=0
+  if ((left < 1800)); then
+    echo "== SKIPPED the Blender suite in $suite's Blender: $((left / 60)) of the run's $((budget / 60)) minutes left, it needs about 30"
+    return 0
+  fi
+  next "Blender tests in $suite's Blender (chroot made once, then reused)"
+  timeout --foreground "$left" bash scripts/blender_versions.sh "$suite" || code=$?
+  if ((code == 124)); then
+    echo "== STOPPED the Blender suite in $suite's Blender: the run's $((budget / 60)) minutes ran out"
+  elif ((code != 0)) && [[ $deciding == no ]]; then
+    echo "== FAILED the Blender suite in $suite's Blender (exit code $code): reported, not deciding the run"
+  elif ((code != 0)); then
+    return "$code"
+  fi
+}
+other_blender trixie yes
+other_blender sid no
