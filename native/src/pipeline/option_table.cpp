@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <iterator>
 #include <sstream>
 #include <type_traits>
 
@@ -23,8 +24,9 @@ OptionRange between(double low, double high) { return {low, high, false, false};
 OptionRange from_to_below(double low, double high) { return {low, high, false, true}; }
 OptionRange any_finite() { return {}; }
 
-// The table. Its order is the docs' and --help's: by stage, the stages in the order of OptionGroup.
-std::vector<OptionField> make_fields() {
+// The table, by stage, in the order of OptionGroup: the docs' and --help's order.
+// The scene, the method and the graph cut.
+std::vector<OptionField> scene_and_graph_cut_fields() {
   return {
       {"scene", G::Scene, &O::scene, {},
        "what the image shows: an object seen whole (its outline is the silhouette), or a relief filling the frame", {}},
@@ -54,6 +56,12 @@ std::vector<OptionField> make_fields() {
       {"viscosity_weight", G::GraphCut, &O::viscosity_weight, at_least(0.0),
        "graphcut: the pull of a second coarsest labelling toward the viscosity solution, kept when its depth renders "
        "closer to the image; 0 = the paper's energy alone", {}},
+  };
+}
+
+// The iterative methods and the paint.
+std::vector<OptionField> iterative_and_paint_fields() {
+  return {
       {"tolerance", G::Iterative, &O::tolerance, at_least(0.0),
        "graph cuts: stop when a cycle lowers the energy by at most this share; brooks_horn: when a sweep moves the normals by at most this; None = the method's default", {}},
       {"iterations", G::Iterative, &O::iterations, at_least(0.0),
@@ -74,6 +82,12 @@ std::vector<OptionField> make_fields() {
        "retinex: pixels below this share of the albedo are shadow, not paint", {}},
       {"retinex_passes", G::Paint, &O::retinex_passes, between(1.0, 10.0),
        "retinex: how many times the paint is read, each pass after the first against the surface the pass before found", {}},
+  };
+}
+
+// Shadows and highlights, integration, refinement and reliefs.
+std::vector<OptionField> surface_fields() {
+  return {
       {"fill_shadows", G::ShadowsAndHighlights, &O::fill_shadows, {},
        "fill the normals of attached shadows (and highlights) from their neighbours", {}},
       {"shadow_threshold", G::ShadowsAndHighlights, &O::shadow_threshold, from_to_below(0.0, 1.0),
@@ -99,6 +113,12 @@ std::vector<OptionField> make_fields() {
        "reliefs: bright lines narrower than this many pixels are paint (mortar), not slope; < 2 = off", {}},
       {"paint_line_contrast", G::Relief, &O::paint_line_contrast, above(1.0),
        "reliefs: how much brighter than both its sides such a line is", {}},
+  };
+}
+
+// Several photographs, and the runtime.
+std::vector<OptionField> photograph_and_runtime_fields() {
+  return {
       {"photometric_shadow_fraction", G::Photographs, &O::photometric_shadow_fraction, from_to_below(0.0, 1.0),
        "several photographs: one is in shadow at a pixel where it is darker than this share of the pixel's albedo", {}},
       {"photometric_outlier_tolerance", G::Photographs, &O::photometric_outlier_tolerance, above(0.0),
@@ -109,6 +129,15 @@ std::vector<OptionField> make_fields() {
        "normals", {}},
       {"threads", G::Runtime, &O::threads, between(0.0, kMaxThreads), "threads; 0 = all cores", {}},
   };
+}
+
+std::vector<OptionField> make_fields() {
+  std::vector<OptionField> fields;
+  for (auto part : {&scene_and_graph_cut_fields, &iterative_and_paint_fields, &surface_fields, &photograph_and_runtime_fields}) {
+    std::vector<OptionField> rows = part();
+    fields.insert(fields.end(), std::make_move_iterator(rows.begin()), std::make_move_iterator(rows.end()));
+  }
+  return fields;
 }
 
 template <class T>
