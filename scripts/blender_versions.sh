@@ -63,7 +63,10 @@ with_mounts() {
   mount -t proc proc "$root/proc"
   mount --rbind /dev "$root/dev" && mount --make-rslave "$root/dev"
   mount -t sysfs sysfs "$root/sys"
+  # test.sh's time limit (timeout) ends this with SIGTERM: the mounts go with it.
+  trap 'umount -R "$root/dev" "$root/sys" "$root/proc" 2>/dev/null; exit 143' TERM INT
   chroot "$root" env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root LANG=C.UTF-8 "$@" || status=$?
+  trap - TERM INT
   umount -R "$root/dev" "$root/sys" "$root/proc"
   return $status
 }

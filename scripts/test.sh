@@ -34,7 +34,7 @@ other_blender() {
     return 0
   fi
   next "Blender tests in $suite's Blender (chroot made once, then reused)"
-  timeout --foreground "$left" bash scripts/blender_versions.sh "$suite" || code=$?
+  timeout "$left" bash scripts/blender_versions.sh "$suite" || code=$?
   if ((code == 124)); then
     echo "== STOPPED the Blender suite in $suite's Blender: the run's $((budget / 60)) minutes ran out"
   elif ((code != 0)) && [[ $deciding == no ]]; then
