@@ -58,7 +58,7 @@ std::string flag_of(const std::string& name) {
   return flag;
 }
 
-bool is_flag_field(const OptionField& field) { return std::holds_alternative<OptionMember<bool>>(field.member); }
+bool is_flag_field(const OptionField& field) { return option_kind(field) == OptionKind::Flag; }
 
 // The field a flag names and the value a flag alone gives (--seamless, --no-cut-out), if any.
 const OptionField* field_of_flag(const std::string& flag, std::optional<bool>& flag_value) {
@@ -188,14 +188,7 @@ input and output:
       const std::vector<std::string> choices = option_choices(field);
       std::string takes;
       for (std::size_t i = 0; i < choices.size(); ++i) takes += (i ? ", " : "") + choices[i];
-      const std::string range = std::visit(
-          [&field](auto member) -> std::string {
-            using T = std::decay_t<decltype(ReconstructOptions{}.*member)>;
-            if constexpr (std::is_same_v<T, int> || std::is_same_v<T, std::optional<int>>) return field.range.text(true);
-            else if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::optional<double>>) return field.range.text(false);
-            else return "";
-          },
-          field.member);
+      const std::string range = option_range_text(field);
       const std::string placeholder = is_flag_field(field) ? "" : takes.empty() ? " N" : " NAME";
       text << "  " << flag_of(field.name) << placeholder << spelled.substr(flag_of(field.name).size()) << "\n"
            << wrapped(field.help + " [default " + option_value_text(field, defaults) + (takes.empty() ? "" : "; " + takes) +

@@ -102,18 +102,15 @@ ReconstructOptions replaced(const std::vector<std::string>& names, ReconstructOp
 // One row of option_fields(): what the add-on, the docs and tests read of the table.
 py::dict field_row(const OptionField& field, const py::object& defaults) {
   py::dict row;
-  const bool whole = std::holds_alternative<OptionMember<int>>(field.member) ||
-                     std::holds_alternative<OptionMember<std::optional<int>>>(field.member);
-  const bool number = whole || std::holds_alternative<OptionMember<double>>(field.member) ||
-                      std::holds_alternative<OptionMember<std::optional<double>>>(field.member);
-  const bool flag = std::holds_alternative<OptionMember<bool>>(field.member);
+  const OptionKind kind = option_kind(field);
+  const bool number = kind == OptionKind::Whole || kind == OptionKind::Number;
   row["name"] = field.name;
   row["group"] = option_group_names().at(std::size_t(field.group));
-  row["kind"] = flag ? "flag" : whole ? "whole" : number ? "number" : "name";
+  row["kind"] = kind == OptionKind::Flag ? "flag" : kind == OptionKind::Whole ? "whole" : number ? "number" : "name";
   row["default"] = defaults.attr(field.name.c_str());
   row["default_text"] = option_value_text(field, ReconstructOptions{});
   row["choices"] = py::tuple(py::cast(option_choices(field)));
-  row["range"] = number ? py::cast(field.range.text(whole)) : py::none();
+  row["range"] = number ? py::cast(option_range_text(field)) : py::none();
   row["low"] = number && field.range.low > -std::numeric_limits<double>::max() ? py::cast(field.range.low) : py::none();
   row["high"] = number && field.range.high < std::numeric_limits<double>::max() ? py::cast(field.range.high) : py::none();
   row["low_open"] = field.range.low_open;

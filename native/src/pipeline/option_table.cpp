@@ -264,6 +264,25 @@ const OptionField* find_option(const std::string& name) {
   return nullptr;
 }
 
+OptionKind option_kind(const OptionField& field) {
+  return std::visit(
+      [](auto member) {
+        using Field = std::decay_t<decltype(ReconstructOptions{}.*member)>;
+        using T = typename std::conditional_t<is_optional<Field>::value, Field, std::optional<Field>>::value_type;
+        if constexpr (std::is_same_v<T, bool>) return OptionKind::Flag;
+        else if constexpr (std::is_integral_v<T>) return OptionKind::Whole;
+        else if constexpr (std::is_floating_point_v<T>) return OptionKind::Number;
+        else return OptionKind::Name;
+      },
+      field.member);
+}
+
+std::string option_range_text(const OptionField& field) {
+  const OptionKind kind = option_kind(field);
+  if (kind == OptionKind::Whole || kind == OptionKind::Number) return field.range.text(kind == OptionKind::Whole);
+  return "";
+}
+
 std::vector<std::string> option_choices(const OptionField& field) {
   return std::visit(
       [](auto member) -> std::vector<std::string> {

@@ -60,6 +60,13 @@ struct OptionField {
   std::vector<std::string> flags;  ///< the command line's other spellings of the flag ("--band"); may be empty
 };
 
+/// What kind of value a field holds (an optional one holds it or None).
+enum class OptionKind { Flag, Whole, Number, Name };
+OptionKind option_kind(const OptionField& field);
+
+/// The field's range in words ("in 4 .. 360", ">= 0"), or "" for a flag or a name.
+std::string option_range_text(const OptionField& field);
+
 /// Every option, grouped by stage in the order of OptionGroup.
 const std::vector<OptionField>& option_fields();
 
