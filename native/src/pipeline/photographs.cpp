@@ -71,7 +71,7 @@ void fit_albedo_and_residual(const std::vector<Observation>& photographs, const 
     const Eigen::Vector3d n = result.normals.xyz.row(i).transpose().cast<double>();
     double misfit = 0.0;
     for (std::size_t k = 0; k < photographs.size(); ++k) {
-      const double shading = std::max(0.0, n.dot(lights.row(Eigen::Index(k)).transpose().normalized()));
+      const double shading = std::max(0.0, n.dot(lights.row(Eigen::Index(k)).transpose()));  // unit: result.lights
       misfit += std::pow(photographs[k].image.data()[i] - result.albedo_map.data()[i] * shading, 2);
     }
     result.residual.data()[i] = float(std::sqrt(misfit / double(photographs.size())));
