@@ -196,6 +196,9 @@ class RecordingLayout:
     def template_icon(self, **_options):  # the light preview (light_preview.draw): no setting
         pass
 
+    def template_list(self, _list_type, _list_id, _data, collection, _active_data, active, **_options):
+        self.drawn += [collection, active]  # the Photographs list and its selected row
+
 
 def drawn_settings(draw, settings):
     drawn = []

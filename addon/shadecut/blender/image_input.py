@@ -1,7 +1,7 @@
 """The image to reconstruct, and its pixels as the core's linear input.
 
 Which image: the file the operator was given, else the panel's, the Image Editor's, the active
-Image Texture node's, or any open Image Editor's. Its pixels: Blender's buffer decoded by the
+Image Texture node's, or any open Image Editor's; or the panel's several Photographs. Its pixels: Blender's buffer decoded by the
 image's colour space, row 0 at the top.
 """
 
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import os
+from dataclasses import dataclass
 from typing import Optional
 
 import bpy
@@ -328,3 +329,39 @@ def _open_image(context, settings) -> tuple[bpy.types.Image, str]:
                      "Texture node in the active object's material, or pick a file")
 
 
+
+
+@dataclass
+class Photographs:
+    """The pixels of several photographs of one view at one working size (see :func:`image_pixels`)."""
+
+    sources: list  # the Blender images, in the list's order
+    images: np.ndarray  # (K, H, W) linear intensity
+    colours: Optional[np.ndarray]  # (K, H, W, 3) linear RGB when every photograph has colour, else None
+    mask: np.ndarray  # (H, W): opaque in every photograph
+    factor: int  # the Max size shrink factor, the same for all
+
+
+def read_photographs(rows, max_size: int) -> Photographs:
+    """The pixels of the panel's Photographs rows; InputError for a row without an image, or images
+    of different sizes (several photographs must be of one view)."""
+    sources = []
+    for index, row in enumerate(rows):
+        if row.image is None:
+            raise InputError(f"Photograph {index + 1} has no image: pick one, or remove its row")
+        sources.append(row.image)
+    first = upright_size(sources[0])
+    for index, source in enumerate(sources[1:], start=2):
+        if upright_size(source) != first:
+            raise InputError(f"Photograph {index} ('{source.name}') is {' x '.join(map(str, upright_size(source)))} "
+                             f"pixels but the first ('{sources[0].name}') is {first[0]} x {first[1]}: several "
+                             "photographs must be of one view from one place, all of one size")
+    read = [image_pixels(source, max_size) for source in sources]
+    colours = [colour for _, _, _, colour in read]
+    return Photographs(
+        sources=sources,
+        images=np.stack([image for image, _, _, _ in read]),
+        colours=None if any(colour is None for colour in colours) else np.stack(colours),
+        mask=np.logical_and.reduce([mask for _, mask, _, _ in read]),
+        factor=read[0][2],
+    )

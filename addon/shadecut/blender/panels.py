@@ -8,6 +8,7 @@ import bpy
 
 from . import lambertian, light_preview
 from .flip_operator import SHADECUT_OT_flip
+from .photographs_operator import SHADECUT_OT_photographs_add, SHADECUT_OT_photographs_remove
 from .reconstruct_operator import SHADECUT_OT_reconstruct
 from .render_operator import SHADECUT_OT_render_lambertian
 
@@ -21,6 +22,30 @@ def _toggled_value(column, settings, toggle: str, value: str, *, heading: str, t
     sub = row.row()
     sub.active = getattr(settings, toggle) == value_when_on
     sub.prop(settings, value, text="")
+
+
+class SHADECUT_UL_photographs(bpy.types.UIList):
+    """A row of the Photographs list: the image, and its light as the Light setting reads it."""
+
+    def draw_item(self, context, layout, data, item, icon, active_data, active_property, index=0, flt_flag=0):
+        row = layout.row(align=True)
+        row.prop(item, "image", text="")
+        if data.light_source == "OBJECT":
+            row.prop(item, "sun", text="")
+        elif data.light_source == "DIRECTION":
+            row.prop(item, "direction", text="")
+
+
+def _draw_photographs(column, settings) -> None:
+    """The Photographs list with its Add (several files at once) and Remove buttons."""
+    row = column.row()
+    row.template_list(SHADECUT_UL_photographs.__name__, "", settings, "photographs", settings, "photograph_index",
+                      rows=2 if not settings.photographs else 4)
+    buttons = row.column(align=True)
+    buttons.operator(SHADECUT_OT_photographs_add.bl_idname, text="", icon="ADD")
+    buttons.operator(SHADECUT_OT_photographs_remove.bl_idname, text="", icon="REMOVE")
+    if len(settings.photographs) > 1 and settings.light_source == "ESTIMATE":
+        column.label(text="Several photographs: set Light to Sun or Direction", icon="ERROR")
 
 
 def draw_reconstruct_settings(layout, settings) -> None:
@@ -37,21 +62,26 @@ def draw_reconstruct_settings(layout, settings) -> None:
                 column.prop(settings, "detail_size", text="Detail size (Auto)")
             else:
                 column.prop(settings, "detail_size")
-    column.prop(settings, "image")
+    if not settings.photographs:
+        column.prop(settings, "image")
+    _draw_photographs(column, settings)
     if settings.scene == "object":
         column.prop(settings, "mask_image")
     column.prop(settings, "max_resolution")
 
     column = layout.column(heading="Light")
     column.prop(settings, "light_source")
+    several = bool(settings.photographs)  # each photograph's own Sun or direction is in its row
     if settings.light_source == "OBJECT":
-        column.prop(settings, "light_object")
+        if not several:
+            column.prop(settings, "light_object")
         column.prop(settings, "frame")
         if settings.frame == "CAMERA":
             column.prop(settings, "camera")
-    elif settings.light_source == "DIRECTION":
+    elif settings.light_source == "DIRECTION" and not several:
         column.prop(settings, "light_direction")
-    light_preview.draw(column, bpy.context, settings)
+    if not several:
+        light_preview.draw(column, bpy.context, settings)
 
     column = layout.column()
     column.prop(settings, "target")

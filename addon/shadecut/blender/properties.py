@@ -58,6 +58,28 @@ def _is_sun(_settings, ob) -> bool:
     return ob.type == "LIGHT" and ob.data.type == "SUN"
 
 
+# Toward the light, as first typed: from the right and the viewer (a photograph row's too).
+DEFAULT_DIRECTION = (1.0, 0.0, 1.0)
+
+
+class ShadeCutPhotograph(bpy.types.PropertyGroup):
+    """One of several photographs of one view (the panel's Photographs list), with its own light."""
+
+    image: bpy.props.PointerProperty(
+        name="Image", type=bpy.types.Image,
+        description="A photograph of the view, taken from the same place as the others under its own light",
+    )
+    sun: bpy.props.PointerProperty(
+        name="Sun", type=bpy.types.Object, poll=_is_sun,
+        description="The Sun aimed as the light fell on this photograph; empty in every row = the scene's Suns, "
+                    "one per photograph in name order",
+    )
+    direction: bpy.props.FloatVectorProperty(
+        name="Direction", size=3, default=DEFAULT_DIRECTION, subtype="XYZ",
+        description="Toward this photograph's light, as seen in it: x right, y up, z toward you",
+    )
+
+
 class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     """Settings of the reconstruction (see reconstruct_operator.SHADECUT_OT_reconstruct).
 
@@ -91,6 +113,13 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
                     "transparency, else white = the object); empty = the image's own alpha, or without one the "
                     "object cut out of a plain background (shown as the image '<name> mask')",
     )
+    photographs: bpy.props.CollectionProperty(
+        type=ShadeCutPhotograph, name="Photographs",
+        description="Several photographs of one view, each under its own light (a camera on a tripod, one lamp "
+                    "moved around the subject): when there are any, they are reconstructed instead of the Image",
+    )
+    photograph_index: bpy.props.IntProperty(name="Selected", default=0, min=0,
+                                            description="The photograph selected in the list")
     max_resolution: bpy.props.IntProperty(
         name="Max size", default=2048, min=0, soft_max=4096, subtype="PIXEL",
         description="A larger image shrinks by a whole factor until neither side exceeds this (0 = full size). "
@@ -116,7 +145,7 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         description="The Sun lamp (it shines along its local -Z); empty = the scene's only Sun",
     )
     light_direction: bpy.props.FloatVectorProperty(
-        name="Direction", size=3, default=(1.0, 0.0, 1.0), subtype="XYZ",
+        name="Direction", size=3, default=DEFAULT_DIRECTION, subtype="XYZ",
         description="Toward the light, as seen in the image: x right, y up, z toward you",
     )
     frame: bpy.props.EnumProperty(

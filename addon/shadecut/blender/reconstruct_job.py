@@ -1,5 +1,5 @@
-"""A reconstruction as a job: prepared from the scene (settings, image, light; every check that
-can refuse the input), run on a worker thread or in place, and finished into the result object or
+"""A reconstruction as a job: prepared from the scene (settings, image or Photographs, light; every
+check that can refuse the input), run on a worker thread or in place, and finished into the result object or
 the target's material (or nothing, when it failed or was cancelled)."""
 
 from __future__ import annotations
@@ -15,13 +15,13 @@ import numpy as np
 
 from .. import api
 from .flip_operator import RESULT_PROPERTY, report_orientation
-from .frames import FrameError, light_in_camera_frame
 from .image_input import (InputError, image_orientation, image_pixels, image_to_reconstruct, picked_mask,
-                          show_mask)
+                          read_photographs, show_mask)
+from .light_input import photograph_lights, sun_light, unit_light
 from .preferences import addon_preferences
 from .mesh import MeshError
 from .result import TargetError, apply_maps, check_collection, check_target, limited_depth_scale, result_object
-from .wording import short_number, with_article
+from .wording import with_article
 
 # Below this the image is black for the method: it needs shading to read slants from.
 DARK_LIMIT = 1e-4
@@ -34,10 +34,10 @@ class Job:
     """Everything the worker thread needs, copied out of Blender's data before it starts."""
 
     name: str
-    image: np.ndarray
-    colour: Optional[np.ndarray]  # (H, W, 3) linear RGB of a colour image: paint told from shading
+    image: np.ndarray  # (H, W) linear intensity; several photographs: (K, H, W)
+    colour: Optional[np.ndarray]  # (H, W, 3) linear RGB of a colour image (K of them: (K, H, W, 3))
     mask: Optional[np.ndarray]  # None = an object without alpha: cut out of its background by reconstruct()
-    light: Optional[np.ndarray]  # None = estimate from the image
+    light: Optional[np.ndarray]  # None = estimate from the image; several photographs: K x 3
     light_origin: str  # how the finish report names the light: "estimated light", "light of Sun 'Sun'"
     albedo: Optional[float]
     options: dict
@@ -98,25 +98,9 @@ def _light(context, settings) -> tuple[Optional[np.ndarray], str]:
     if settings.light_source == "ESTIMATE":
         return None, "estimated light"
     if settings.light_source == "DIRECTION":
-        light, origin = np.array(settings.light_direction, dtype=float), "light"
-    else:
-        sun, origin = _sun(context, settings)
-        context.view_layer.update()  # a script may have just moved the sun or the camera
-        camera = None
-        if settings.frame == "CAMERA":
-            camera = settings.camera or context.scene.camera
-            if camera is None:
-                raise InputError("No camera: choose one in the ShadeCut panel, add one to the scene, "
-                                 "or set Seen from to Top view")
-        try:
-            light = np.array(light_in_camera_frame(sun, camera))
-        except FrameError as error:
-            raise InputError(str(error)) from error
-    try:
-        return api.light_direction(light), origin
-    except ValueError as error:
-        shown = ", ".join(short_number(value) for value in light)
-        raise InputError(f"The light ({shown}) cannot be used: {error}") from error
+        return unit_light(settings.light_direction), "light"
+    sun, origin = _sun(context, settings)
+    return unit_light(sun_light(context, settings, sun)), origin
 
 
 def _finite(value: float) -> bool:
@@ -176,12 +160,15 @@ def _check_density(name: str, mask: np.ndarray, density: int, max_vertices: int)
 
 
 def prepare_job(context, filepath: str = "") -> Job:
-    """Reads the settings and the image into a :class:`Job`; raises InputError for bad input.
+    """Reads the settings and the image (or the panel's Photographs) into a :class:`Job`; raises
+    InputError for bad input.
 
     An image loaded from ``filepath`` by this call is removed again when the input is refused.
     """
     settings = context.scene.shadecut
     _check_output(settings)
+    if settings.photographs and not filepath:
+        return _prepare_photographs(context, settings)
     source, created, origin = image_to_reconstruct(context, settings, filepath)
     try:
         job = _prepare(context, settings, source, created)
@@ -193,24 +180,63 @@ def prepare_job(context, filepath: str = "") -> Job:
     return job
 
 
-def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
-    image, mask, factor, colour = image_pixels(source, settings.max_resolution)
+def _check_lit(named: str, image: np.ndarray, mask: np.ndarray) -> None:
+    """InputError for an image (``named``: "Image 'x.png'") with no opaque pixel, or none lit."""
     if not mask.any():
-        raise InputError(f"Image '{source.name}' is transparent everywhere: its alpha leaves no pixel to reconstruct")
+        raise InputError(f"{named} is transparent everywhere: its alpha leaves no pixel to reconstruct")
     if not image[mask].max() > DARK_LIMIT:
-        raise InputError(f"Image '{source.name}' is black: shape from shading needs a lit, shaded surface")
+        raise InputError(f"{named} is black: shape from shading needs a lit, shaded surface")
+
+
+def _check_target_of(context, settings) -> None:
     if settings.target == "ACTIVE_MATERIAL":
         try:
             check_target(context.active_object, normal_map=settings.normal_map, height_map=settings.height_map)
         except TargetError as error:
             raise InputError(str(error)) from error
-    light, light_origin = _light(context, settings)
 
+
+def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
+    image, mask, factor, colour = image_pixels(source, settings.max_resolution)
+    _check_lit(f"Image '{source.name}'", image, mask)
+    _check_target_of(context, settings)
+    light, light_origin = _light(context, settings)
+    job = _job(context, settings, source, image, colour, mask, light)
+    job.light_origin, job.created_image = light_origin, created
+    job.shrunk = _shrunk(source, image.shape, factor, settings.max_resolution)
+    job.turned = image_orientation(source) != 1
+    return job
+
+
+def _prepare_photographs(context, settings) -> Job:
+    """The Job of the panel's Photographs: one row is exactly the single image's call with its light."""
+    photographs = read_photographs(settings.photographs, settings.max_resolution)
+    first = photographs.sources[0]
+    _check_lit("Every photograph" if len(photographs.sources) > 1 else f"Image '{first.name}'",
+               photographs.images.max(axis=0), photographs.mask)
+    _check_target_of(context, settings)
+    lights, light_origin = photograph_lights(context, settings, settings.photographs)
+    one = len(photographs.sources) == 1
+    colour = photographs.colours
+    job = _job(context, settings, first, photographs.images[0] if one else photographs.images,
+               None if colour is None else colour[0] if one else colour, photographs.mask,
+               None if lights is None else lights[0] if one else lights)
+    job.light_origin = light_origin
+    job.shrunk = _shrunk(first, photographs.mask.shape, photographs.factor, settings.max_resolution)
+    job.turned = image_orientation(first) != 1
+    return job
+
+
+def _job(context, settings, source: bpy.types.Image, image: np.ndarray, colour: Optional[np.ndarray],
+         mask: np.ndarray, light: Optional[np.ndarray]) -> Job:
+    """The Job of pixels already read (one image (H, W), or a stack (K, H, W) with K x 3 lights):
+    the method, the mask the Subject asks for, the checks of the result's place and density."""
     preferences = addon_preferences(context)
     method = settings.method
     if method == "DEFAULT":
         method = preferences.default_method if preferences else api.ReconstructOptions().method.name
     seamless = settings.seamless and settings.scene == "relief"
+    shape = mask.shape
     if seamless:
         mask = np.ones_like(mask)  # a tiling surface covers the whole image
     elif settings.scene == "object" and settings.mask_image is not None:
@@ -222,26 +248,24 @@ def _prepare(context, settings, source: bpy.types.Image, created: bool) -> Job:
             check_collection(context.collection)  # before the work, not after it
         except MeshError as error:
             raise InputError(f"Cannot add the result: {error}") from error
-        _check_density(source.name, np.ones_like(image, dtype=bool) if mask is None else mask, _density(settings),
+        _check_density(source.name, np.ones(shape, dtype=bool) if mask is None else mask, _density(settings),
                        settings.max_vertices)
     options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,
                    integrator=settings.integrator, fit_shading=settings.fit_shading, seamless=seamless,
                    albedo_method=settings.albedo_method, detail_size=settings.detail_size,
                    threads=preferences.threads if preferences else 0)
+    several = light is not None and light.ndim == 2  # the albedo is then fitted per pixel
     return Job(
         name=Path(source.name).stem or source.name,
         image=image,
         colour=colour,
         mask=mask,
         light=light,
-        light_origin=light_origin,
-        albedo=None if settings.auto_albedo or light is None else settings.albedo,
+        light_origin="",
+        albedo=None if settings.auto_albedo or light is None or several else settings.albedo,
         options=options,
         source_image=source,
-        output=_output_settings(settings, context),
-        created_image=created,
-        shrunk=_shrunk(source, image.shape, factor, settings.max_resolution),
-        turned=image_orientation(source) != 1,
+        output=_output_settings(settings, context, several),
     )
 
 
@@ -253,13 +277,14 @@ def _shrunk(source: bpy.types.Image, working: tuple[int, int], factor: int, max_
     return f", worked at {working[1]} x {working[0]} (1/{factor} of {width} x {height}: Max size {max_size} px)"
 
 
-def _output_settings(settings, context=None) -> dict:
+def _output_settings(settings, context=None, several: bool = False) -> dict:
+    """How to build the result; several photographs always give the normal map, what they measure best."""
     target = None  # the name of the object whose material gets the maps; None = a new object
     if settings.target == "ACTIVE_MATERIAL" and context is not None and context.active_object is not None:
         target = context.active_object.name
     return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=_height_limit(settings),
                 density=_density(settings), max_vertices=settings.max_vertices, displace=settings.output == "DISPLACE",
-                normal_map=settings.normal_map, height_map=settings.height_map, target=target)
+                normal_map=settings.normal_map or (several and target is None), height_map=settings.height_map, target=target)
 
 
 def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
@@ -276,13 +301,22 @@ def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
         return {"CANCELLED"}
     maps = " and ".join(kind for kind, wanted in (("normal map", out["normal_map"]), ("height map", out["height_map"]))
                         if wanted)
-    light = ", ".join(f"{v:.3f}" for v in result.light)
     operator.report({"INFO"}, f"{maps.capitalize()} of image '{job.source_image.name}' applied to "
                               f"material '{material.name}' of '{obj.name}': {job.options['method']} in "
-                              f"{time.perf_counter() - job.started:.1f} s, {job.light_origin} ({light}), "
+                              f"{time.perf_counter() - job.started:.1f} s, {_lights_used(job)}, "
                               f"albedo {result.albedo:.3f}{job.shrunk}{report_cut_out(operator, job)}")
     report_orientation(operator, result)
     return {"FINISHED"}
+
+
+def _lights_used(job: Job) -> str:
+    """What the finish report says of the light: its direction; of several photographs, how many, their
+    lights' origin and how many pixels fewer than three of them lit."""
+    stats = job.result.stats
+    if stats.photographs == 1:
+        return f"{job.light_origin} ({', '.join(f'{v:.3f}' for v in job.result.light)})"
+    return (f"{stats.photographs} photographs under {job.light_origin} ({stats.pair_pixels:,} pixels lit in only two "
+            f"of them, {stats.single_pixels + stats.dark_pixels:,} in fewer: filled from around)")
 
 
 def report_cut_out(operator, job: Job) -> str:
@@ -354,10 +388,9 @@ def finish_job(operator, context, job: Job) -> set[str]:
         discard_job(job)
         operator.report({"ERROR"}, f"Cannot build the result: {error}")
         return {"CANCELLED"}
-    light = ", ".join(f"{v:.3f}" for v in result.light)
     source = f"image '{job.source_image.name}' from {job.image_origin}, " if job.image_origin else ""
     operator.report({"INFO"}, f"'{obj.name}': {source}{job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
-                              f"{job.light_origin} ({light}), albedo {result.albedo:.3f}, "
+                              f"{_lights_used(job)}, albedo {result.albedo:.3f}, "
                               f"{len(obj.data.vertices):,} vertices (density {step}){job.shrunk}"
                               f"{report_cut_out(operator, job)}")
     obj[RESULT_PROPERTY] = True

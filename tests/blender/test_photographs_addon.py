@@ -1,0 +1,245 @@
+"""Several photographs of one view in the add-on (issue 45): picked in the file browser at once, each
+lit by its own Sun or typed light, reconstructed in one click into a mesh with the normal map and the
+de-lit albedo wired; undo removes it, Esc cancels, bad input is a report that leaves nothing behind."""
+
+import re
+import threading
+from types import SimpleNamespace
+
+import bpy
+import numpy as np
+import pytest
+
+import shadecut
+from shadecut import synthetic
+from shadecut.blender import reconstruct_job, reconstruct_operator
+from shadecut.blender.result import NORMAL_NODE, NORMAL_TEXTURE
+from test_addon import add_sun, pixels_of, scene_state
+from test_addon_errors import Reports
+
+# Four lights about 40 degrees from the viewer, from the top, the left, the bottom and the right.
+AROUND = np.array([[0.0, 0.64, 0.77], [-0.64, 0.0, 0.77], [0.0, -0.64, 0.77], [0.64, 0.0, 0.77]])
+ALBEDO = 0.8
+SIZE = 96
+
+
+@pytest.fixture
+def sphere_photographs(tmp_path):
+    """A sphere (albedo 0.8) under each light of AROUND, rendered by the core and saved as 16-bit PNGs,
+    the mask as alpha: (the synthetic.Scene, the directory, the file names in AROUND's order)."""
+    scene = synthetic.sphere((0.0, 0.0, 1.0), size=SIZE)
+    names = [f"sphere_{index}.png" for index in range(len(AROUND))]
+    for name, light in zip(names, AROUND):
+        shadecut.save_image(tmp_path / name, shadecut.render(scene.normals, light, ALBEDO, scene.mask), scene.mask)
+    return scene, tmp_path, names
+
+
+def add_photographs(directory, names):
+    """The Add button's operator as the file browser calls it with ``names`` selected in ``directory``."""
+    return bpy.ops.shadecut.photographs_add(directory=str(directory), files=[{"name": name} for name in names])
+
+
+def with_typed_lights(sphere_photographs, lights=AROUND):
+    """The four photographs in the panel's list, each with its light typed; the settings."""
+    _, directory, names = sphere_photographs
+    assert add_photographs(directory, names) == {"FINISHED"}
+    settings = bpy.context.scene.shadecut
+    settings.light_source = "DIRECTION"
+    for row, light in zip(settings.photographs, lights):
+        row.direction = light
+    return settings
+
+
+def decoded_normal_map(obj):
+    """The camera-frame normals (H, W, 3) of the result's normal map, row 0 at the top."""
+    image = obj.active_material.node_tree.nodes[NORMAL_TEXTURE].image
+    width, height = image.size
+    colours = pixels_of(image).reshape(height, width, 4)[::-1, :, :3]
+    return 2.0 * colours - 1.0
+
+
+def test_four_photographs_in_one_click_give_the_true_normals_and_the_maps_wired(addon, sphere_photographs):
+    truth = sphere_photographs[0]
+    with_typed_lights(sphere_photographs)
+    objects_before = set(bpy.data.objects)
+
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+
+    new = set(bpy.data.objects) - objects_before
+    assert len(new) == 1
+    obj = new.pop()
+    assert obj.name == "sphere_0" and obj.type == "MESH" and len(obj.data.vertices) == np.count_nonzero(truth.mask)
+    # Four Lambertian photographs fix the normal outright: the library's own bound (tests/python/
+    # test_photographs.py), which the 16-bit files' rounding (1 part in 65535) leaves untouched.
+    assert truth.mean_error(decoded_normal_map(obj)) < 1.0
+    # The mesh's own vertex normals, from the heights the normals integrate to: as true.
+    normals = np.empty(3 * len(obj.data.vertices), np.float32)
+    obj.data.vertices.foreach_get("normal", normals)
+    mesh_normals = np.zeros_like(truth.normals)
+    mesh_normals[truth.mask] = normals.reshape(-1, 3)
+    assert truth.mean_error(mesh_normals) < 1.0
+
+    nodes = obj.active_material.node_tree.nodes
+    shader = nodes["Principled BSDF"]
+    base_colour = shader.inputs["Base Color"].links[0].from_node
+    assert base_colour.image.name == "sphere_0 albedo"  # the de-lit albedo, not a shaded photograph
+    albedo = pixels_of(base_colour.image).reshape(SIZE, SIZE, 4)[::-1]
+    inside = shadecut.erode_mask(truth.mask, 2)
+    np.testing.assert_allclose(albedo[inside][:, :3], ALBEDO, atol=0.02)  # no shading left in it
+    assert nodes[NORMAL_TEXTURE].outputs["Color"].links[0].to_node == nodes[NORMAL_NODE]
+    assert nodes[NORMAL_NODE].outputs["Normal"].links[0].to_node == shader
+
+
+def test_the_scenes_suns_in_name_order_light_the_photographs(addon, sphere_photographs):
+    """No Sun picked in any row: the scene's Suns, one per photograph, sorted by name (Top view: the
+    world's frame is the image's)."""
+    truth, directory, names = sphere_photographs
+    assert add_photographs(directory, names) == {"FINISHED"}
+    for index, light in reversed(list(enumerate(AROUND))):  # made out of order: the names decide
+        add_sun(light, name=f"Lamp {index}")
+    bpy.context.scene.shadecut.light_source = "OBJECT"
+    job = reconstruct_job.prepare_job(bpy.context)
+    np.testing.assert_allclose(job.light, AROUND / np.linalg.norm(AROUND, axis=1, keepdims=True), atol=1e-6)
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    assert truth.mean_error(decoded_normal_map(bpy.context.active_object)) < 1.0
+
+
+def test_a_sun_picked_per_photograph_gives_its_light(addon, sphere_photographs):
+    settings = with_typed_lights(sphere_photographs)
+    settings.light_source = "OBJECT"
+    for index, (row, light) in enumerate(zip(settings.photographs, AROUND)):
+        row.sun = add_sun(light, name=f"Z {3 - index}")  # names against the rows' order: the picks decide
+    job = reconstruct_job.prepare_job(bpy.context)
+    np.testing.assert_allclose(job.light, AROUND / np.linalg.norm(AROUND, axis=1, keepdims=True), atol=1e-6)
+
+
+def test_one_photograph_in_the_list_is_the_single_image(addon, sphere_photographs):
+    _, directory, names = sphere_photographs
+    settings = bpy.context.scene.shadecut
+    settings.light_source, settings.light_direction = "DIRECTION", AROUND[3]
+    settings.image = bpy.data.images.load(str(directory / names[3]))
+    alone = reconstruct_job.prepare_job(bpy.context)
+    alone.run()
+    assert add_photographs(directory, [names[3]]) == {"FINISHED"}
+    settings.photographs[0].direction = AROUND[3]
+    listed = reconstruct_job.prepare_job(bpy.context)
+    listed.run()
+    np.testing.assert_array_equal(listed.image, alone.image)
+    np.testing.assert_array_equal(listed.result.depth, alone.result.depth)
+    np.testing.assert_array_equal(listed.result.normals, alone.result.normals)
+
+
+def test_undo_removes_the_result(addon, sphere_photographs):
+    """Background mode pushes no undo step for an operator called from Python (see test_flip): the
+    flags are checked, and undoing past the operator takes the result out again."""
+    assert {"REGISTER", "UNDO"} <= bpy.types.SHADECUT_OT_reconstruct.bl_options
+    with_typed_lights(sphere_photographs)
+    bpy.ops.ed.undo_push(message="before")
+    before = scene_state()
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    assert "sphere_0" in bpy.data.objects
+    bpy.ops.ed.undo_push(message="after")
+    bpy.ops.ed.undo()
+    assert "sphere_0" not in bpy.data.objects
+    assert scene_state() == before
+
+
+class Event:
+    def __init__(self, kind):
+        self.type = kind
+
+
+def test_esc_cancels_the_running_job_and_leaves_nothing(addon, sphere_photographs):
+    """The operator's modal handler given Esc while the photographs' job runs on its worker thread."""
+    with_typed_lights(sphere_photographs)
+    before = scene_state()
+    job = reconstruct_job.prepare_job(bpy.context)
+    started = threading.Event()
+    progress = job.progress
+
+    def held_progress(fraction, stage):  # the worker waits at its first progress call for the Esc
+        started.set()
+        while not job.cancel:
+            threading.Event().wait(0.01)
+        return progress(fraction, stage)
+
+    job.progress = held_progress
+    worker = threading.Thread(target=job.run)
+    worker.start()
+    assert started.wait(60)
+    operator = Reports()
+    operator._job, operator._thread = job, worker
+    operator._end_modal = lambda context: None  # no timer or progress bar in background mode
+    window = SimpleNamespace(progress_update=lambda value: None)
+    context = SimpleNamespace(window_manager=window, workspace=SimpleNamespace(status_text_set=lambda text: None),
+                              scene=bpy.context.scene, collection=bpy.context.collection,
+                              view_layer=bpy.context.view_layer)
+    assert reconstruct_operator.SHADECUT_OT_reconstruct.modal(operator, context, Event("ESC")) == {"RUNNING_MODAL"}
+    assert job.cancel
+    worker.join(60)
+    assert reconstruct_operator.SHADECUT_OT_reconstruct.modal(operator, context, Event("TIMER")) == {"CANCELLED"}
+    assert isinstance(job.error, shadecut.Cancelled) and "cancelled" in operator.last[1]
+    assert scene_state() == before
+
+
+def resized(directory, name):
+    """A 64 x 64 photograph beside the 96 x 96 ones."""
+    scene = synthetic.sphere((0.0, 0.0, 1.0), size=64)
+    shadecut.save_image(directory / name, shadecut.render(scene.normals, AROUND[3], ALBEDO, scene.mask), scene.mask)
+    return name
+
+
+def _bad_setup(case, sphere_photographs):
+    settings = with_typed_lights(sphere_photographs)
+    rows = settings.photographs
+    if case == "sizes":
+        rows[3].image = bpy.data.images.load(str(sphere_photographs[1] / resized(sphere_photographs[1], "small.png")))
+    elif case == "same light":
+        rows[3].direction = rows[0].direction
+    elif case == "below the horizon":
+        rows[2].direction = (0.3, 0.2, -1.0)
+    elif case == "estimate":
+        settings.light_source = "ESTIMATE"
+    elif case == "no image":
+        rows.add()
+    else:
+        settings.light_source = "OBJECT"
+        suns = [add_sun(light, name=f"Sun {index}") for index, light in enumerate(AROUND)]
+        if case == "three suns":
+            bpy.data.objects.remove(suns[3])
+        elif case == "one sun missing":
+            for row, sun in zip(rows[:3], suns):
+                row.sun = sun
+        elif case == "same sun":
+            for row in rows:
+                row.sun = suns[0]
+
+
+@pytest.mark.parametrize("case, message", [
+    ("sizes", "Photograph 4 ('small.png') is 64 x 64 pixels but the first ('sphere_0.png') is 96 x 96"),
+    ("three suns", "4 photographs but 3 Suns in the scene"),
+    ("one sun missing", "Photograph 4 ('sphere_3.png') has no Sun"),
+    ("same sun", "both have Sun 'Sun 0': a second photograph under the same light adds nothing"),
+    ("same light", "adds nothing"),
+    ("below the horizon", "The light of photograph 3 ('sphere_2.png') (0.3, 0.2, -1) cannot be used"),
+    ("estimate", "Light is Estimate, which reads one photograph"),
+    ("no image", "Photograph 5 has no image"),
+])
+def test_bad_photographs_are_a_report_and_leave_nothing_behind(addon, sphere_photographs, case, message):
+    _bad_setup(case, sphere_photographs)
+    before = scene_state()
+    # An ERROR report raises in background mode; CANCELLED is the operator's result behind it.
+    with pytest.raises(RuntimeError, match=re.escape(message)) as raised:
+        bpy.ops.shadecut.reconstruct()
+    assert "Traceback" not in str(raised.value)
+    assert scene_state() == before
+
+
+def test_adding_photographs_is_all_or_nothing(addon, sphere_photographs):
+    _, directory, names = sphere_photographs
+    before = scene_state()
+    with pytest.raises(RuntimeError, match="there is no such file"):
+        add_photographs(directory, [*names[:2], "missing.png"])
+    assert scene_state() == before and len(bpy.context.scene.shadecut.photographs) == 0
+    with pytest.raises(RuntimeError, match="No file selected"):
+        add_photographs(directory, [])
