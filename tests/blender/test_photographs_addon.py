@@ -3,7 +3,9 @@ lit by its own Sun or typed light, reconstructed in one click into a mesh with t
 de-lit albedo wired; undo removes it, Esc cancels, bad input is a report that leaves nothing behind."""
 
 import re
+import subprocess
 import threading
+from pathlib import Path
 from types import SimpleNamespace
 
 import bpy
@@ -21,6 +23,7 @@ from test_addon_errors import Reports
 AROUND = np.array([[0.0, 0.64, 0.77], [-0.64, 0.0, 0.77], [0.0, -0.64, 0.77], [0.64, 0.0, 0.77]])
 ALBEDO = 0.8
 SIZE = 96
+UI_SESSION = Path(__file__).with_name("photographs_ui_session.py")
 
 
 @pytest.fixture
@@ -243,3 +246,16 @@ def test_adding_photographs_is_all_or_nothing(addon, sphere_photographs):
     assert scene_state() == before and len(bpy.context.scene.shadecut.photographs) == 0
     with pytest.raises(RuntimeError, match="No file selected"):
         add_photographs(directory, [])
+
+
+def test_in_a_real_window_one_click_undo_and_esc():
+    """photographs_ui_session.py in a Blender window under Xvfb, where the panel is drawn and the
+    operator runs modal with its timer, its undo step and Esc, as for a user."""
+    result = subprocess.run(
+        ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24",
+         bpy.app.binary_path, "--factory-startup", "--enable-event-simulate", "-P", str(UI_SESSION)],
+        capture_output=True, text=True, timeout=300,
+    )
+    print(result.stdout[-2000:])
+    assert result.returncode == 0 and "ui: all checks passed" in result.stdout, result.stdout + result.stderr
+    assert "Traceback" not in result.stdout + result.stderr, result.stdout + result.stderr
