@@ -10,30 +10,23 @@ timers.py (next to this script) ends the process with the script's outcome.
 
 import sys
 import tempfile
-import threading
-import time
 from pathlib import Path
 
 import bpy
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # timers.py
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # timers.py, window_steps.py
 import shadecut  # noqa: E402
 from shadecut import synthetic  # noqa: E402
-from shadecut.blender import panels, reconstruct_job  # noqa: E402
+from shadecut.blender import panels  # noqa: E402
 from timers import run_steps_then_exit  # noqa: E402
+from window_steps import (meshes, reconstruct_until, record_progress, undo_then_cancel,  # noqa: E402
+                          view3d_override)
 
 # Four lights about 40 degrees from the viewer, from the top, the left, the bottom and the right.
 AROUND = np.array([[0.0, 0.64, 0.77], [-0.64, 0.0, 0.77], [0.0, -0.64, 0.77], [0.64, 0.0, 0.77]])
 state = {"fractions": [], "hold": False, "drawn": None}
-
-
-def view3d_override():
-    window = bpy.context.window_manager.windows[0]
-    area = next(area for area in window.screen.areas if area.type == "VIEW_3D")
-    region = next(region for region in area.regions if region.type == "WINDOW")
-    return dict(window=window, area=area, region=region)
 
 
 def show_the_panel():
@@ -49,24 +42,6 @@ def show_the_panel():
 
     with bpy.context.temp_override(**view3d_override()):
         bpy.context.window_manager.popup_menu(draw, title="ShadeCut")
-
-
-def meshes():
-    return {obj.name for obj in bpy.data.objects if obj.type == "MESH"}
-
-
-def hold_progress():
-    """With "hold" the job waits at its progress calls for Esc (at most 10 s), as a long run would."""
-    original = reconstruct_job.Job.progress
-
-    def progress(job, fraction, stage):
-        state["fractions"].append(fraction)
-        deadline = time.monotonic() + 10.0
-        while state["hold"] and not job.cancel and time.monotonic() < deadline:
-            time.sleep(0.01)
-        return original(job, fraction, stage)
-
-    reconstruct_job.Job.progress = progress
 
 
 def add_photographs(scene) -> None:
@@ -85,7 +60,7 @@ def add_photographs(scene) -> None:
 def steps():
     """The test as a generator: each yield waits for Blender's next timer tick."""
     shadecut.register()
-    hold_progress()
+    record_progress(state)
     scene = synthetic.sphere((0.0, 0.0, 1.0), size=256)
     add_photographs(scene)
     show_the_panel()
@@ -100,12 +75,7 @@ def steps():
     bpy.ops.ed.undo_push(message="ShadeCut test: before")
     before = meshes()
 
-    with bpy.context.temp_override(**view3d_override()):
-        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
-    for _ in range(600):
-        if meshes() != before:
-            break
-        yield
+    yield from reconstruct_until(lambda: meshes() != before, "no result")
     assert meshes() - before == {"sphere_0"}, meshes() - before
     obj = bpy.data.objects["sphere_0"]
     nodes = obj.active_material.node_tree.nodes
@@ -113,27 +83,7 @@ def steps():
     assert base_colour == "sphere_0 albedo" and "sphere_0 normals" in bpy.data.images, base_colour
     print(f"ui: four photographs gave '{obj.name}' after {len(state['fractions'])} progress calls")
 
-    with bpy.context.temp_override(**view3d_override()):
-        bpy.ops.ed.undo()
-    yield
-    assert meshes() == before, f"undo left {meshes() - before}"
-    print("ui: one undo step removed the result")
-
-    state["fractions"].clear()
-    state["hold"] = True
-    with bpy.context.temp_override(**view3d_override()):
-        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
-    while not state["fractions"]:
-        yield
-    bpy.context.window_manager.windows[0].event_simulate(type="ESC", value="PRESS")
-    for _ in range(100):  # the worker stops at its next progress call
-        yield
-        if not any(thread.name == "shadecut-reconstruct" for thread in threading.enumerate()):
-            break
-    yield  # the operator's next timer event finishes it
-    assert meshes() == before, f"cancelling left {meshes() - before}"
-    assert state["fractions"][-1] < 1.0, "Esc came too late to cancel"
-    print(f"ui: Esc cancelled at {state['fractions'][-1]:.2f}, nothing added")
+    yield from undo_then_cancel(state, before)
     print("ui: all checks passed")
 
 

@@ -3,7 +3,6 @@ lit by its own Sun or typed light, reconstructed in one click into a mesh with t
 de-lit albedo wired; undo removes it, Esc cancels, bad input is a report that leaves nothing behind."""
 
 import re
-import subprocess
 import threading
 from pathlib import Path
 from types import SimpleNamespace
@@ -18,6 +17,7 @@ from shadecut.blender import reconstruct_job, reconstruct_operator
 from shadecut.blender.result import NORMAL_NODE, NORMAL_TEXTURE
 from test_addon import add_sun, pixels_of, scene_state
 from test_addon_errors import Reports
+from window_steps import run_in_window
 
 # Four lights about 40 degrees from the viewer, from the top, the left, the bottom and the right.
 AROUND = np.array([[0.0, 0.64, 0.77], [-0.64, 0.0, 0.77], [0.0, -0.64, 0.77], [0.64, 0.0, 0.77]])
@@ -251,11 +251,7 @@ def test_adding_photographs_is_all_or_nothing(addon, sphere_photographs):
 def test_in_a_real_window_one_click_undo_and_esc():
     """photographs_ui_session.py in a Blender window under Xvfb, where the panel is drawn and the
     operator runs modal with its timer, its undo step and Esc, as for a user."""
-    result = subprocess.run(
-        ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24",
-         bpy.app.binary_path, "--factory-startup", "--enable-event-simulate", "-P", str(UI_SESSION)],
-        capture_output=True, text=True, timeout=300,
-    )
+    result = run_in_window(UI_SESSION)
     print(result.stdout[-2000:])
     assert result.returncode == 0 and "ui: all checks passed" in result.stdout, result.stdout + result.stderr
     assert "Traceback" not in result.stdout + result.stderr, result.stdout + result.stderr

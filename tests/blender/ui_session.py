@@ -10,53 +10,26 @@ timers.py (next to this script) ends the process with the script's outcome.
 
 import sys
 import tempfile
-import threading
-import time
 from pathlib import Path
 
 import bpy
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "addon"))
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # timers.py
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # timers.py, window_steps.py
 import shadecut  # noqa: E402
 from shadecut import synthetic  # noqa: E402
-from shadecut.blender import reconstruct_job  # noqa: E402
 from timers import run_steps_then_exit  # noqa: E402
+from window_steps import (meshes, reconstruct_until, record_progress, undo_then_cancel,  # noqa: E402
+                          view3d_override)
 
 LIGHT = (1.0, 0.0, 1.0)
-state = {"ticks": 0, "fractions": []}
-
-
-def view3d_override():
-    window = bpy.context.window_manager.windows[0]
-    area = next(area for area in window.screen.areas if area.type == "VIEW_3D")
-    region = next(region for region in area.regions if region.type == "WINDOW")
-    return dict(window=window, area=area, region=region)
-
-
-def meshes():
-    return {obj.name for obj in bpy.data.objects if obj.type == "MESH"}
-
-
-def record_progress():
-    original = reconstruct_job.Job.progress
-
-    def progress(job, fraction, stage):
-        state["fractions"].append(fraction)
-        # With "hold" the job waits here for Esc (at most 10 s), as a long reconstruction would: this
-        # sphere takes well under a second, about as long as a simulated key takes to arrive.
-        deadline = time.monotonic() + 10.0
-        while state.get("hold") and not job.cancel and time.monotonic() < deadline:
-            time.sleep(0.01)
-        return original(job, fraction, stage)
-
-    reconstruct_job.Job.progress = progress
+state = {"fractions": []}
 
 
 def steps():
     """The test as a generator: each yield waits for Blender's next timer tick."""
     shadecut.register()
-    record_progress()
+    record_progress(state)
     # Big enough that the reconstruction outlasts several 0.1-s timer ticks (512 px now takes 0.7 s).
     scene = synthetic.sphere(light=LIGHT, size=1024)
     path = Path(tempfile.mkdtemp()) / "sphere.png"
@@ -78,27 +51,7 @@ def steps():
     assert ticks >= 2, "Blender did not run its timers during the reconstruction"
     assert state["fractions"][-1] == 1.0
 
-    with bpy.context.temp_override(**view3d_override()):
-        bpy.ops.ed.undo()
-    yield
-    assert meshes() == before, f"undo left {meshes() - before}"
-    print("ui: one undo step removed the result")
-
-    state["fractions"].clear()
-    state["hold"] = True
-    with bpy.context.temp_override(**view3d_override()):
-        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
-    while not state["fractions"]:
-        yield
-    bpy.context.window_manager.windows[0].event_simulate(type="ESC", value="PRESS")
-    for _ in range(100):  # the worker stops at its next progress call
-        yield
-        if not any_running():
-            break
-    assert meshes() == before, f"cancelling left {meshes() - before}"
-    assert state["fractions"][-1] < 1.0, "Esc came too late to cancel"
-    print(f"ui: Esc cancelled at {state['fractions'][-1]:.2f}, nothing added")
-    state["hold"] = False
+    yield from undo_then_cancel(state, before)
 
     # Apply to: Active object changes the user's own material; one undo step gives it back.
     bpy.context.view_layer.objects.active = bpy.data.objects["Cube"]
@@ -117,18 +70,6 @@ def steps():
     print("ui: all checks passed")
 
 
-def reconstruct_until(finished, failure: str):
-    """Invokes the operator as the UI does, then waits timer ticks until finished() (at most 60 s);
-    returns how many ticks that took."""
-    with bpy.context.temp_override(**view3d_override()):
-        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
-    start = state["ticks"]
-    while not finished():
-        yield
-        assert state["ticks"] - start < 600, f"{failure} after 60 s"
-    return state["ticks"] - start
-
-
 def nodes() -> list:
     """The node names of the cube's material (looked up anew: undo rebuilds the data)."""
     return sorted(node.name for node in bpy.data.objects["Cube"].active_material.node_tree.nodes)
@@ -138,12 +79,4 @@ def images() -> set:
     return {image.name for image in bpy.data.images}
 
 
-def any_running() -> bool:
-    return any(thread.name == "shadecut-reconstruct" for thread in threading.enumerate())
-
-
-def count_tick():
-    state["ticks"] += 1
-
-
-run_steps_then_exit(steps(), 0.1, on_tick=count_tick)
+run_steps_then_exit(steps(), 0.1)
