@@ -244,8 +244,16 @@ def test_adding_photographs_is_all_or_nothing(addon, sphere_photographs):
     with pytest.raises(RuntimeError, match="there is no such file"):
         add_photographs(directory, [*names[:2], "missing.png"])
     assert scene_state() == before and len(bpy.context.scene.shadecut.photographs) == 0
-    with pytest.raises(RuntimeError, match="No file selected"):
-        add_photographs(directory, [])
+    (directory / "empty").mkdir()
+    with pytest.raises(RuntimeError, match="holds no image file"):
+        add_photographs(directory / "empty", [])
+
+
+def test_a_folder_without_a_file_picked_adds_its_images_in_name_order(addon, sphere_photographs):
+    _, directory, names = sphere_photographs
+    (directory / "notes.txt").write_text("not a photograph")
+    assert add_photographs(directory, []) == {"FINISHED"}
+    assert [row.image.name for row in bpy.context.scene.shadecut.photographs] == names
 
 
 def test_in_a_real_window_one_click_undo_and_esc():

@@ -1,6 +1,7 @@
 """The panel's Photographs list: several photographs of one view, each under its own light. "Add"
-loads the files picked in the file browser (several at once), one row each; "Remove" takes the
-active row out of the list (its image stays in the .blend)."""
+loads the files picked in the file browser (several at once; none picked: every image of the
+folder, in name order), one row each; "Remove" takes the active row out of the list (its image
+stays in the .blend)."""
 
 from __future__ import annotations
 
@@ -11,8 +12,18 @@ import bpy
 from .image_input import InputError, load_file
 
 
+def _image_files_in(directory: str) -> list[str]:
+    """The names of the image files (by Blender's image extensions) in ``directory``, sorted."""
+    path = bpy.path.abspath(directory)
+    if not os.path.isdir(path):
+        return []
+    return sorted(name for name in os.listdir(path) if os.path.isfile(os.path.join(path, name))
+                  and os.path.splitext(name)[1].lower() in bpy.path.extensions_image)
+
+
 class SHADECUT_OT_photographs_add(bpy.types.Operator):
-    """Add photographs of one view, each lit from its own direction: select several in the file browser"""
+    """Add photographs of one view, each lit from its own direction: select several in the file browser,
+    or none to add every image of the folder (in name order)"""
 
     bl_idname = "shadecut.photographs_add"
     bl_label = "Add Photographs"
@@ -28,10 +39,12 @@ class SHADECUT_OT_photographs_add(bpy.types.Operator):
         return {"RUNNING_MODAL"}
 
     def execute(self, context):
-        paths = [os.path.join(self.directory, entry.name) for entry in self.files if entry.name]
-        if not paths:
-            self.report({"ERROR"}, "No file selected: select the photographs (Shift or Ctrl + click for several)")
+        names = [entry.name for entry in self.files if entry.name] or _image_files_in(self.directory)
+        if not names:
+            self.report({"ERROR"}, f"No file selected, and the folder '{self.directory}' holds no image file: "
+                                   "select the photographs (Shift or Ctrl + click for several), or a folder of them")
             return {"CANCELLED"}
+        paths = [os.path.join(self.directory, name) for name in names]
         loaded = []
         try:
             for path in paths:
