@@ -263,3 +263,18 @@ def test_in_a_real_window_one_click_undo_and_esc():
     print(result.stdout[-2000:])
     assert result.returncode == 0 and "ui: all checks passed" in result.stdout, result.stdout + result.stderr
     assert "Traceback" not in result.stdout + result.stderr, result.stdout + result.stderr
+
+
+def test_alphas_that_do_not_overlap_are_refused(addon, sphere_photographs):
+    """Each photograph has opaque pixels, but none is opaque in all: no common outline to reconstruct."""
+    settings = with_typed_lights(sphere_photographs)
+    directory = sphere_photographs[1]
+    scene = synthetic.sphere((0.0, 0.0, 1.0), size=SIZE)
+    elsewhere = np.zeros_like(scene.mask)
+    elsewhere[:4, :4] = True  # a corner the sphere does not reach
+    shadecut.save_image(directory / "corner.png", np.full(scene.mask.shape, 0.5, np.float32), elsewhere)
+    settings.photographs[3].image = bpy.data.images.load(str(directory / "corner.png"))
+    before = scene_state()
+    with pytest.raises(RuntimeError, match="No pixel is opaque in every photograph"):
+        bpy.ops.shadecut.reconstruct()
+    assert scene_state() == before

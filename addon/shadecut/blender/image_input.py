@@ -1,8 +1,8 @@
 """The image to reconstruct, and its pixels as the core's linear input.
 
 Which image: the file the operator was given, else the panel's, the Image Editor's, the active
-Image Texture node's, or any open Image Editor's; or the panel's several Photographs. Its pixels: Blender's buffer decoded by the
-image's colour space, row 0 at the top.
+Image Texture node's, or any open Image Editor's; or the panel's several Photographs. Its pixels:
+Blender's buffer decoded by the image's colour space, row 0 at the top.
 """
 
 from __future__ import annotations
@@ -358,10 +358,14 @@ def read_photographs(rows, max_size: int) -> Photographs:
                              "photographs must be of one view from one place, all of one size")
     read = [image_pixels(source, max_size) for source in sources]
     colours = [colour for _, _, _, colour in read]
+    mask = np.logical_and.reduce([mask for _, mask, _, _ in read])
+    if len(sources) > 1 and not mask.any() and all(mask.any() for _, mask, _, _ in read):
+        raise InputError("No pixel is opaque in every photograph: their alphas do not overlap, but photographs of "
+                         "one view share one outline")
     return Photographs(
         sources=sources,
         images=np.stack([image for image, _, _, _ in read]),
         colours=None if any(colour is None for colour in colours) else np.stack(colours),
-        mask=np.logical_and.reduce([mask for _, mask, _, _ in read]),
+        mask=mask,
         factor=read[0][2],
     )

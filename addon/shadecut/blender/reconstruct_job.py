@@ -216,11 +216,11 @@ def _prepare_photographs(context, settings) -> Job:
                photographs.images.max(axis=0), photographs.mask)
     _check_target_of(context, settings)
     lights, light_origin = photograph_lights(context, settings, settings.photographs)
-    one = len(photographs.sources) == 1
-    colour = photographs.colours
-    job = _job(context, settings, first, photographs.images[0] if one else photographs.images,
-               None if colour is None else colour[0] if one else colour, photographs.mask,
-               None if lights is None else lights[0] if one else lights)
+    images, colours = photographs.images, photographs.colours
+    if len(photographs.sources) == 1:  # the single image's own call
+        images, colours = images[0], None if colours is None else colours[0]
+        lights = None if lights is None else lights[0]
+    job = _job(context, settings, first, images, colours, photographs.mask, lights)
     job.light_origin = light_origin
     job.shrunk = _shrunk(first, photographs.mask.shape, photographs.factor, settings.max_resolution)
     job.turned = image_orientation(first) != 1
@@ -284,7 +284,8 @@ def _output_settings(settings, context=None, several: bool = False) -> dict:
         target = context.active_object.name
     return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=_height_limit(settings),
                 density=_density(settings), max_vertices=settings.max_vertices, displace=settings.output == "DISPLACE",
-                normal_map=settings.normal_map or (several and target is None), height_map=settings.height_map, target=target)
+                normal_map=settings.normal_map or (several and target is None), height_map=settings.height_map,
+                target=target)
 
 
 def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
