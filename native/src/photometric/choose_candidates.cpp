@@ -239,8 +239,10 @@ NormalCandidates photometric_candidates(const PhotometricStereoResult& result) {
       candidates.count.data()[p] = 2;
       candidates.normals[0].xyz.row(p) = result.first_candidate.xyz.row(p);
       candidates.normals[1].xyz.row(p) = result.second_candidate.xyz.row(p);
+      const float conflict[2] = {result.first_shadow_conflict.data()[p], result.second_shadow_conflict.data()[p]};
       for (int k = 0; k < 2; ++k)
-        candidates.data_cost[std::size_t(k)].data()[p] = std::max(0.0f, -candidates.normals[std::size_t(k)].xyz(p, 2));
+        candidates.data_cost[std::size_t(k)].data()[p] =
+            std::max(0.0f, -candidates.normals[std::size_t(k)].xyz(p, 2)) + conflict[k];
     }
   }
   return candidates;

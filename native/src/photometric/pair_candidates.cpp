@@ -75,9 +75,22 @@ double uniform_pair_albedo(const std::vector<UsablePair>& pairs, const std::vect
   return smallest[at];
 }
 
+// The light `normal` would catch beyond what the photographs other than the pair's show, at pixel p.
+double shadow_conflict(const Eigen::Vector3d& normal, const UsablePair& pair, double albedo, std::size_t p,
+                       const std::vector<ImageF>& images, const std::vector<Mask>& clipped,
+                       const std::vector<Eigen::Vector3d>& lights) {
+  double conflict = 0.0;
+  for (std::size_t k = 0; k < images.size(); ++k) {
+    if (int(k) == pair.a || int(k) == pair.b || (!clipped.empty() && clipped[k].data()[p])) continue;
+    conflict += std::max(0.0, normal.dot(lights[k]) - double(images[k].data()[p]) / albedo);
+  }
+  return conflict;
+}
+
 }  // namespace
 
-void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<Eigen::Vector3d>& lights, const Mask& mask,
+void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<ImageF>& images,
+                   const std::vector<Mask>& clipped, const std::vector<Eigen::Vector3d>& lights, const Mask& mask,
                    const PhotometricStereoParams& params, PhotometricStereoResult& result) {
   ImageF pair_albedo = params.albedo_map.size() > 0 ? params.albedo_map
                        : params.albedo > 0.0 ? ImageF(ImageF::Constant(mask.rows(), mask.cols(), float(params.albedo)))
@@ -99,8 +112,12 @@ void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<Eigen
       first = in_plane + std::sqrt(out_of_plane_squared) * across;
       second = in_plane - std::sqrt(out_of_plane_squared) * across;
     }
-    result.first_candidate.xyz.row(Eigen::Index(p)) = first.normalized().cast<float>().transpose();
-    result.second_candidate.xyz.row(Eigen::Index(p)) = second.normalized().cast<float>().transpose();
+    first.normalize();
+    second.normalize();
+    result.first_candidate.xyz.row(Eigen::Index(p)) = first.cast<float>().transpose();
+    result.second_candidate.xyz.row(Eigen::Index(p)) = second.cast<float>().transpose();
+    result.first_shadow_conflict.data()[p] = float(shadow_conflict(first, pair, rho, p, images, clipped, lights));
+    result.second_shadow_conflict.data()[p] = float(shadow_conflict(second, pair, rho, p, images, clipped, lights));
     result.albedo.data()[p] = float(rho);
   }
 }

@@ -92,6 +92,8 @@ PhotometricStereoResult empty_result(int rows, int cols) {
   result.normals = NormalMap(rows, cols);
   result.first_candidate = NormalMap(rows, cols);
   result.second_candidate = NormalMap(rows, cols);
+  result.first_shadow_conflict = ImageF::Zero(rows, cols);
+  result.second_shadow_conflict = ImageF::Zero(rows, cols);
   result.albedo = ImageF::Zero(rows, cols);
   result.residual = ImageF::Zero(rows, cols);
   result.usable = CountImage::Zero(rows, cols);
@@ -149,7 +151,7 @@ PhotometricStereoResult photometric_stereo(const std::vector<ImageF>& images, co
     result.single_pixels += usable == 1;
     result.pair_pixels += usable == 2;
   }
-  if (result.pair_pixels > 0) detail::resolve_pairs(pairs, unit, mask, params, result);
+  if (result.pair_pixels > 0) detail::resolve_pairs(pairs, images, clipped, unit, mask, params, result);
   return result;
 }
 

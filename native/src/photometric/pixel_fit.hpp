@@ -51,9 +51,10 @@ class PixelFitter {
 std::vector<Eigen::Vector3d> checked_photometric_input(const std::vector<ImageF>& images, const LightDirections& lights,
                                                        const Mask& mask, const std::vector<Mask>& clipped);
 
-/// Fills result.first_candidate, second_candidate and albedo at the pixels where pairs[p].a >= 0,
-/// with the albedo PhotometricStereoParams::albedo_map or albedo describe.
-void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<Eigen::Vector3d>& lights, const Mask& mask,
+/// Fills result.first_candidate, second_candidate, their shadow conflicts and the albedo at the pixels
+/// where pairs[p].a >= 0, with the albedo PhotometricStereoParams::albedo_map or albedo describe.
+void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<ImageF>& images,
+                   const std::vector<Mask>& clipped, const std::vector<Eigen::Vector3d>& lights, const Mask& mask,
                    const PhotometricStereoParams& params, PhotometricStereoResult& result);
 
 }  // namespace shadecut::detail

@@ -128,6 +128,29 @@ TEST(PhotometricStereo, TwoPhotographsGiveTwoCandidatesOneOfThemTrue) {
   EXPECT_EQ(result.pair_pixels + result.single_pixels + result.dark_pixels, scene.mask.count());
 }
 
+// Where the other photographs are dark because the surface faces away from their lights, the true
+// candidate would catch none of their light; its mirror image across the pair's plane often would.
+TEST(PhotometricStereo, TheTrueCandidateCatchesNoLightWhereTheOtherPhotographsAreDark) {
+  const auto scene = testing::sphere_scene(96, 0.45, {0, 0, 1});
+  const LightDirections lights = lights_around(4, 60.0, 90.0, 90.0);
+  PhotometricStereoParams params;
+  params.albedo = 0.8;
+  const auto result =
+      photometric_stereo(photographs(scene, lights, ImageF::Constant(96, 96, 0.8f)), lights, scene.mask, {}, params);
+  ASSERT_GT(result.pair_pixels, 500);
+  int mirror_catches_light = 0;
+  for (Eigen::Index p = 0; p < scene.normals.size(); ++p) {
+    if (result.usable.data()[p] != 2) continue;
+    const bool first_is_true = degrees_between(result.first_candidate.xyz.row(p), scene.normals.xyz.row(p)) <
+                               degrees_between(result.second_candidate.xyz.row(p), scene.normals.xyz.row(p));
+    const float truth = first_is_true ? result.first_shadow_conflict.data()[p] : result.second_shadow_conflict.data()[p];
+    const float mirror = first_is_true ? result.second_shadow_conflict.data()[p] : result.first_shadow_conflict.data()[p];
+    EXPECT_LT(truth, 1e-4f) << "pixel " << p;
+    mirror_catches_light += mirror > 0.05f;
+  }
+  EXPECT_GT(mirror_catches_light, result.pair_pixels / 2);
+}
+
 TEST(PhotometricStereo, TwoPhotographPixelsTakeTheAlbedoOfTheirThreeLightNeighbours) {
   const auto scene = testing::sphere_scene(96, 0.45, {0, 0, 1});
   const LightDirections lights = lights_around(3, 50.0, 90.0, 120.0);

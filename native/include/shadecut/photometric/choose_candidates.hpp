@@ -27,7 +27,8 @@ struct NormalCandidates {
 /// usable, two (first_candidate, second_candidate) where two are, none elsewhere. A candidate that
 /// faces away from the viewer (n_z < 0) costs -n_z, about its distance to the nearest visible normal:
 /// near the outline noise puts the true normal there too, so it stays a candidate (a pixel left with
-/// one would hold its neighbours to it).
+/// one would hold its neighbours to it). Each also costs its shadow conflict: the light it would
+/// catch where the other photographs are dark.
 NormalCandidates photometric_candidates(const PhotometricStereoResult& result);
 
 struct CandidateCutParams {

@@ -66,6 +66,11 @@ struct PhotometricStereoResult {
   /// cones do not meet (the albedo is too low for the two intensities) both hold the nearest normal,
   /// in the lights' plane. (0, 0, 0) elsewhere.
   NormalMap first_candidate, second_candidate;
+  /// H x W, at the same pixels: how much light each candidate would catch where the photographs are
+  /// dark, sum over the other photographs (not clipped) of max(0, n . S_k - I_k / albedo). Near 0 for
+  /// the true normal where the darkness is its own shadow (it faces away from those lights); a cast
+  /// shadow darkens a photograph whatever the normal, so this is evidence, not a rule. 0 elsewhere.
+  ImageF first_shadow_conflict, second_shadow_conflict;
   std::int64_t dark_pixels = 0;    ///< masked pixels with no usable photograph (dark in every one)
   std::int64_t single_pixels = 0;  ///< masked pixels with exactly one usable photograph
   std::int64_t pair_pixels = 0;    ///< masked pixels with exactly two
