@@ -1,12 +1,18 @@
-"""Several photographs on DiLiGenT (issue 45): shadecut.reconstruct with 2, 4, 8 and all 19 of an
-object's photographs and their calibrated lights, against plain least squares over the same
-photographs (every one, nothing left out) and one photograph alone (graphcut, the mean over the set).
+"""Several photographs (issue 45): shadecut.reconstruct given several photographs and their lights,
+against plain least squares over the same photographs (every one, nothing left out), one photograph
+alone (the mean over the set) and, for the materials, a flat normal map.
 
-    PYTHONPATH=addon /usr/bin/python3 scripts/measure_photometric.py [DILIGENT_FOLDER]
+    PYTHONPATH=addon /usr/bin/python3 scripts/measure_photometric.py [DATA_FOLDER]
 
-DILIGENT_FOLDER defaults to ../shared/data/diligent. Mean angular error in degrees over the mask
-eroded by 2 pixels, as every evaluation measures; the table in docs/results.md is its output. Nothing
-is tuned here: the thresholds are the option table's defaults.
+- DiLiGenT (DATA_FOLDER/diligent): 2, 4, 8 and all 19 of an object's photographs with their
+  calibrated lights; one photograph is graphcut with its light. Mean angular error in degrees over the
+  mask eroded by 2 pixels, as every evaluation measures.
+- The scanned materials (DATA_FOLDER/materials): each measured normal map rendered Lambertian
+  (albedo x max(0, n . S), no cast shadow) under 4 and 8 lights at slant 40 degrees around the
+  viewer; one photograph is the relief reconstruction with its light. Mean over every pixel.
+
+DATA_FOLDER defaults to ../shared/data; a part whose folder is absent is left out. The tables in
+docs/results.md are its output. Nothing is tuned here: the thresholds are the option table's defaults.
 """
 
 from __future__ import annotations
@@ -18,42 +24,68 @@ from pathlib import Path
 import numpy as np
 
 import shadecut
-from shadecut import diligent
+from shadecut import diligent, materials
 
-SETS = {"two (079, 031)": [79, 31], "four (085, 007, 037, 049)": [85, 7, 37, 49],
-        "eight": [85, 79, 7, 31, 37, 25, 49, 73], "all 19": None}
+DILIGENT_SETS = {"two (079, 031)": [79, 31], "four (085, 007, 037, 049)": [85, 7, 37, 49],
+                 "eight": [85, 79, 7, 31, 37, 25, 49, 73], "all 19": None}
+MATERIAL_SLANT_DEGREES = 40.0
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
 
-def plain_least_squares(loaded: diligent.DiligentObject) -> np.ndarray:
-    grey = np.stack([photo @ LUMINANCE for photo in loaded.photos], axis=-1)
-    scaled = grey[loaded.mask] @ np.linalg.pinv(loaded.lights).T
-    normals = np.zeros_like(loaded.normals)
-    normals[loaded.mask] = scaled / np.maximum(np.linalg.norm(scaled, axis=-1, keepdims=True), 1e-12)
-    return normals
+def plain_least_squares(photographs: list, lights: np.ndarray) -> np.ndarray:
+    grey = np.stack([photo @ LUMINANCE for photo in photographs], axis=-1)
+    scaled = grey @ np.linalg.pinv(lights).T
+    return scaled / np.maximum(np.linalg.norm(scaled, axis=-1, keepdims=True), 1e-12)
 
 
-def row(folder: Path, label: str, images) -> str:
+def timed(photographs: list, lights: np.ndarray, mask=None) -> tuple[shadecut.Reconstruction, float]:
+    start = time.perf_counter()
+    result = shadecut.reconstruct(photographs, lights, mask)
+    return result, time.perf_counter() - start
+
+
+def diligent_row(folder: Path, label: str, images) -> str:
     loaded = diligent.load_object(folder, images=images)
     inner = shadecut.erode_mask(loaded.mask, 2)
-    start = time.perf_counter()
-    ours = shadecut.reconstruct(loaded.photos, loaded.lights, loaded.mask)
-    seconds = time.perf_counter() - start
+    ours, seconds = timed(loaded.photos, loaded.lights, loaded.mask)
     single = np.mean([shadecut.angular_error(shadecut.reconstruct(photo, light, loaded.mask).normals, loaded.normals, inner)
                       for photo, light in zip(loaded.photos, loaded.lights)])
+    least_squares = np.where(loaded.mask[..., None], plain_least_squares(loaded.photos, loaded.lights), 0.0)
     return (f"| {folder.name[:-3]} | {label} | {shadecut.angular_error(ours.normals, loaded.normals, inner):.2f} | "
-            f"{shadecut.angular_error(plain_least_squares(loaded), loaded.normals, inner):.2f} | {single:.2f} | "
+            f"{shadecut.angular_error(least_squares, loaded.normals, inner):.2f} | {single:.2f} | "
             f"{ours.stats.pair_pixels / loaded.mask.sum():.1%} | {seconds:.2f} |")
 
 
+def material_row(material: materials.Material, half: str, count: int) -> str:
+    lights = materials.lights_around(count, MATERIAL_SLANT_DEGREES)
+    photographs = materials.lambertian_photographs(material, lights)
+    ours, seconds = timed(photographs, lights)
+    single = np.mean([shadecut.angular_error(shadecut.reconstruct(photo, light, scene="relief").normals,
+                                             material.normals) for photo, light in zip(photographs, lights)])
+    flat = np.broadcast_to(np.array([0.0, 0.0, 1.0], np.float32), material.normals.shape)
+    return (f"| {material.name} | {half} | {count} | {shadecut.angular_error(ours.normals, material.normals):.2f} | "
+            f"{shadecut.angular_error(plain_least_squares(photographs, lights), material.normals):.2f} | "
+            f"{single:.2f} | {shadecut.angular_error(flat, material.normals):.2f} | "
+            f"{ours.stats.pair_pixels / material.height.size:.1%} | {seconds:.2f} |")
+
+
 def main() -> int:
-    folder = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(__file__).resolve().parents[2] / "shared" / "data" / "diligent"
+    data = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(__file__).resolve().parents[2] / "shared" / "data"
     print("| object | photographs | ShadeCut | plain least squares | one photograph (mean) | two lit | seconds |")
     print("|---|---|---|---|---|---|---|")
     for name in ("ball", "cat", "reading"):
-        if (folder / f"{name}PNG").is_dir():
-            for label, images in SETS.items():
-                print(row(folder / f"{name}PNG", label, images), flush=True)
+        if (data / "diligent" / f"{name}PNG").is_dir():
+            for label, images in DILIGENT_SETS.items():
+                print(diligent_row(data / "diligent" / f"{name}PNG", label, images), flush=True)
+    if not (data / "materials").is_dir():
+        return 0
+    print("\n| material | half | photographs | ShadeCut | plain least squares | one photograph (mean) | flat | two lit | seconds |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for half, names in (("training", materials.TRAINING), ("test", materials.TEST)):
+        for name in names:
+            material = materials.load_material(data / "materials" / name)
+            for count in (4, 8):
+                print(material_row(material, half, count), flush=True)
     return 0
 
 
