@@ -67,8 +67,8 @@ def test_pixels_dark_in_every_photograph_are_filled_not_refused():
     [
         (lambda images, lights: ([images[0][:-1], *images[1:]], lights), "photograph 2 is 64 x 64 pixels but the first"),
         (lambda images, lights: (images, lights[:3]), "4 photographs but 3 lights"),
-        (lambda images, lights: (images, np.vstack([lights[:3], lights[:1]])), "adds nothing"),
-        (lambda images, lights: (images, np.vstack([lights[:3], [[0.3, 0.2, -1.0]]])), "horizon"),
+        (lambda images, lights: (images, np.vstack([lights[:3], lights[:1]])), "photograph 4 adds nothing to photograph 1"),
+        (lambda images, lights: (images, np.vstack([lights[:3], [[0.3, 0.2, -1.0]]])), r"horizon.*\(the light of photograph 4\)"),
         (lambda images, lights: (images, None), "every light must be given"),
     ],
 )

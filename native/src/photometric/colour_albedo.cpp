@@ -19,7 +19,7 @@ std::vector<ImageF> luminances(const std::vector<ColourImage>& photographs) {
     const ColourImage& photo = photographs[k];
     for (int c = 1; c < 3; ++c)
       if (photo.channel[std::size_t(c)].rows() != photo.rows() || photo.channel[std::size_t(c)].cols() != photo.cols())
-        throw InvalidArgument("shadecut: the colour channels of photograph " + std::to_string(k) + " differ in size");
+        throw InvalidArgument("shadecut: the colour channels of " + photograph_name(k) + " differ in size");
     ImageF y = ImageF::Zero(photo.rows(), photo.cols());
     for (int c = 0; c < 3; ++c) y += float(kLuminanceWeights[std::size_t(c)]) * photo.channel[std::size_t(c)];
     grey.push_back(std::move(y));

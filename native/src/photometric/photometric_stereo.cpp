@@ -37,16 +37,16 @@ std::vector<Eigen::Vector3d> checked_lights(const LightDirections& lights) {
     try {
       unit.push_back(LightFrame::from_direction(lights.row(k).transpose()).direction);
     } catch (const InvalidArgument& error) {
-      throw InvalidArgument(std::string(error.what()) + " (light " + std::to_string(k) + ")");
+      throw InvalidArgument(std::string(error.what()) + " (the light of " + photograph_name(std::size_t(k)) + ")");
     }
   }
   const double same = std::cos(kSameLightDegrees * M_PI / 180.0);
   for (std::size_t a = 0; a < unit.size(); ++a)
     for (std::size_t b = a + 1; b < unit.size(); ++b)
       if (unit[a].dot(unit[b]) > same)
-        throw InvalidArgument("shadecut: lights " + std::to_string(a) + " and " + std::to_string(b) +
-                              " are the same direction: photograph " + std::to_string(b) +
-                              " adds nothing to photograph " + std::to_string(a) + "; leave one out");
+        throw InvalidArgument("shadecut: the lights of " + photograph_name(a) + " and " + photograph_name(b) +
+                              " are the same direction: " + photograph_name(b) + " adds nothing to " +
+                              photograph_name(a) + "; leave one out");
   return unit;
 }
 
@@ -59,11 +59,11 @@ void check_inputs(const std::vector<ImageF>& images, const LightDirections& ligh
     throw InvalidArgument("shadecut: " + std::to_string(lights.rows()) + " lights for " +
                           std::to_string(images.size()) + " photographs; give one light per photograph");
   for (std::size_t k = 0; k < images.size(); ++k) {
-    check_image(images[k], "photograph " + std::to_string(k));
+    check_image(images[k], photograph_name(k));
     if (images[k].rows() != images[0].rows() || images[k].cols() != images[0].cols())
-      throw InvalidArgument("shadecut: photograph " + std::to_string(k) + " is " + std::to_string(images[k].rows()) +
-                            " x " + std::to_string(images[k].cols()) + ", photograph 0 is " +
-                            std::to_string(images[0].rows()) + " x " + std::to_string(images[0].cols()) +
+      throw InvalidArgument("shadecut: " + photograph_name(k) + " is " + std::to_string(images[k].cols()) + " x " +
+                            std::to_string(images[k].rows()) + " pixels but the first is " +
+                            std::to_string(images[0].cols()) + " x " + std::to_string(images[0].rows()) +
                             "; all photographs must have one size");
   }
   check_mask(mask, images[0]);
@@ -72,7 +72,7 @@ void check_inputs(const std::vector<ImageF>& images, const LightDirections& ligh
                           std::to_string(images.size()) + " photographs; give none or one per photograph");
   for (std::size_t k = 0; k < clipped.size(); ++k)
     if (clipped[k].rows() != mask.rows() || clipped[k].cols() != mask.cols())
-      throw InvalidArgument("shadecut: the clipped mask of photograph " + std::to_string(k) +
+      throw InvalidArgument("shadecut: the clipped mask of " + photograph_name(k) +
                             " does not have the photographs' size");
 }
 

@@ -31,17 +31,17 @@ void check_photographs(const std::vector<Observation>& photographs, const Mask* 
     const Observation& photograph = photographs[k];
     check_image(photograph.image);
     if (photograph.image.rows() != first.image.rows() || photograph.image.cols() != first.image.cols())
-      throw InvalidArgument("shadecut: photograph " + std::to_string(k + 1) + " is " + std::to_string(photograph.image.cols()) +
+      throw InvalidArgument("shadecut: " + photograph_name(k) + " is " + std::to_string(photograph.image.cols()) +
                             " x " + std::to_string(photograph.image.rows()) + " pixels but the first is " +
                             std::to_string(first.image.cols()) + " x " + std::to_string(first.image.rows()) +
                             "; several photographs must be of one view, all of one size");
     if (photograph.has_colour() != first.has_colour())
-      throw InvalidArgument("shadecut: photograph " + std::to_string(k + 1) + " is " + (photograph.has_colour() ? "colour" : "grey") +
+      throw InvalidArgument("shadecut: " + photograph_name(k) + " is " + (photograph.has_colour() ? "colour" : "grey") +
                             " but the first is not; give all in colour or all grey");
     if (photograph.image.minCoeff() < 0.0f)
-      throw InvalidArgument("shadecut: photograph " + std::to_string(k + 1) + " has negative intensities; linear intensity is >= 0");
+      throw InvalidArgument("shadecut: " + photograph_name(k) + " has negative intensities; linear intensity is >= 0");
     if (!photograph.light)
-      throw InvalidArgument("shadecut: the light of photograph " + std::to_string(k + 1) +
+      throw InvalidArgument("shadecut: the light of " + photograph_name(k) +
                             " is not given; with several photographs every light must be given (estimating them is "
                             "not supported yet)");
   }

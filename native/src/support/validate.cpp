@@ -64,6 +64,8 @@ std::string number_text(double value) {
   return text;
 }
 
+std::string photograph_name(std::size_t index) { return "photograph " + std::to_string(index + 1); }
+
 void check_albedo(double albedo) {
   if (!(albedo > 0.0) || !std::isfinite(albedo))
     throw InvalidArgument("shadecut: the albedo must be finite and > 0; got " + number_text(albedo));

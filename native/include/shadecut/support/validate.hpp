@@ -3,6 +3,7 @@
 
 #include <shadecut/support/types.hpp>
 
+#include <cstddef>
 #include <string>
 
 namespace shadecut {
@@ -23,6 +24,10 @@ void check_normals(const NormalMap& normals, int rows, int cols);
 /// `value` for a message: six significant digits ("1e+300", "0.001"), not std::to_string's fixed
 /// notation, which prints 1e300 in 301 digits and 1e-9 as 0.000000.
 std::string number_text(double value);
+
+/// How a message names the photograph at `index` of a list: "photograph 3" for index 2, counted from
+/// 1 as a user counts the images they gave.
+std::string photograph_name(std::size_t index);
 
 /// Throws InvalidArgument unless the albedo is finite and > 0.
 void check_albedo(double albedo);
