@@ -143,6 +143,26 @@ def light_direction(light: Sequence[float]) -> np.ndarray:
     return _core.light_direction(_vector3(light))
 
 
+LIGHT_SIDES: tuple = tuple(_core.LIGHT_SIDES)
+"""The sides of the image a light can be named by, for :func:`light_from_side` and ``reconstruct``."""
+
+SIDE_LIGHT_SLANT_DEGREES: float = _core.SIDE_LIGHT_SLANT_DEGREES
+"""The slant from the viewer of a light named only by its side (docs/conventions.md, "Light")."""
+
+
+def light_from_side(side: str, slant_degrees: float = SIDE_LIGHT_SLANT_DEGREES) -> np.ndarray:
+    """The unit direction (3,) toward a light from the image's ``side`` (one of :data:`LIGHT_SIDES`:
+    "top", "left", "bottom-right", ...) at ``slant_degrees`` from the viewer, in (0, 90).
+
+    A light that nobody measured, as in a multi-angle capture: its slant fixes the depth's scale, not
+    its forms (another slant gives the same photographs of a deeper or flatter surface). ValueError
+    for another word or slant.
+    """
+    if not isinstance(side, str):
+        raise TypeError(f"shadecut: a light's side is a word such as 'top'; got {side!r}")
+    return _core.light_from_side(side, float(slant_degrees))
+
+
 def reconstruct(
     image,
     light: Optional[Sequence[float]] = None,
@@ -164,8 +184,9 @@ def reconstruct(
             gives ``albedo_colour``. Several photographs are read by photometric stereo where three
             or more light a pixel, and the graph cut chooses where two leave two normals
             (docs/method.md, "Several photographs").
-        light: direction toward the distant light in the camera frame, S_z > 0; normalized here; with
-            several photographs, K such directions (K x 3), one per photograph, in order.
+        light: direction toward the distant light in the camera frame, S_z > 0; normalized here; or
+            the side of the image it comes from ("top", "left", ...: :func:`light_from_side`); with
+            several photographs, K such directions or sides, one per photograph, in order.
             None = estimated from the image by the ``light_method`` option (see :func:`estimate_light`),
             and then also the albedo unless given; ``stats.light_estimated`` says so (one photograph
             only: several need their lights).
@@ -189,6 +210,10 @@ def reconstruct(
 
 def _photographs(image, light) -> tuple[list, Optional[list]]:
     """The photographs of a reconstruct() call and their lights (None: estimated)."""
+    if isinstance(light, str):
+        light = light_from_side(light)
+    elif isinstance(light, (list, tuple)) and any(isinstance(item, str) for item in light):
+        light = [light_from_side(item) if isinstance(item, str) else _vector3(item) for item in light]
     several_lights = light is not None and np.ndim(light) == 2
     if isinstance(image, (list, tuple)):
         images = [_real(photograph) for photograph in image]

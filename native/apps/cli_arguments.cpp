@@ -3,7 +3,9 @@
 #include <shadecut/io/image_io.hpp>
 #include <shadecut/pipeline/option_table.hpp>
 #include <shadecut/support/errors.hpp>
+#include <shadecut/support/light.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -26,16 +28,19 @@ std::optional<double> finite_number(const std::string& text) {
   return std::nullopt;
 }
 
+// Three numbers X,Y,Z, or the side of the image the light comes from ("top").
 Eigen::Vector3d parse_light(const std::string& text) {
+  const std::vector<std::string>& sides = light_side_names();
+  if (std::find(sides.begin(), sides.end(), text) != sides.end()) return light_from_side(text);
   std::vector<double> values;
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) {
     const std::optional<double> value = finite_number(item);
-    if (!value) throw UsageError("--light takes three numbers X,Y,Z; got '" + text + "'");
+    if (!value) throw UsageError("--light takes three numbers X,Y,Z or a side such as top; got '" + text + "'");
     values.push_back(*value);
   }
-  if (values.size() != 3) throw UsageError("--light takes three numbers X,Y,Z; got '" + text + "'");
+  if (values.size() != 3) throw UsageError("--light takes three numbers X,Y,Z or a side such as top; got '" + text + "'");
   return {values[0], values[1], values[2]};
 }
 
@@ -148,6 +153,19 @@ Arguments parse_arguments(const std::vector<std::string>& args) {
   return arguments;
 }
 
+// light_side_names() as --help lists them, wrapped under the flags' descriptions.
+std::string side_names_text() {
+  std::string text, line;
+  for (const std::string& side : light_side_names()) {
+    if (!line.empty() && line.size() + side.size() > 70) {
+      text += line + ",\n                       ";
+      line.clear();
+    }
+    line += (line.empty() ? "" : ", ") + side;
+  }
+  return text + line;
+}
+
 std::string usage() {
   std::ostringstream text;
   text << R"(usage: shadecut IMAGE [--light X,Y,Z] [options]
@@ -167,6 +185,9 @@ input and output:
   --light X,Y,Z        light direction in the camera frame (Z > 0); without it the light (and,
                        unless --albedo is given, the albedo) is estimated from the image; with
                        several photographs, once for each
+  --light SIDE         a light from that side of the image at )" << kSideLightSlantDegrees << R"( degrees from the viewer (a light
+                       nobody measured; its slant scales the depth), SIDE one of
+                       )" << side_names_text() << R"(
   --albedo A           albedo (default: read from the image by --albedo-method)
   --out DIR            output folder (default shadecut_out)
   --color-space NAME   auto (default), linear or srgb: how the file's values relate to intensity

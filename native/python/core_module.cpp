@@ -70,6 +70,13 @@ void bind_light_and_albedo(py::module_& m) {
     return py::array_t<double>(3, direction.data());
   });
 
+  m.def("light_from_side", [](const std::string& side, double slant_degrees) {
+    const Eigen::Vector3d direction = shadecut::light_from_side(side, slant_degrees);
+    return py::array_t<double>(3, direction.data());
+  });
+  m.attr("LIGHT_SIDES") = shadecut::light_side_names();
+  m.attr("SIDE_LIGHT_SLANT_DEGREES") = shadecut::kSideLightSlantDegrees;
+
   m.def("estimate_reflectance", [](const FloatArray& image, const std::optional<BoolArray>& mask,
                                    const shadecut::ReconstructOptions& options, const std::optional<FloatArray>& shading) {
     require_grey_or_colour(image);

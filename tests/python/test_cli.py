@@ -249,6 +249,22 @@ def test_several_photographs_each_with_its_light(tmp_path):
     assert short.returncode == 2 and "4 photographs but 1 --light" in short.stderr
 
 
+def test_lights_named_by_their_sides(tmp_path):
+    """--light top: a light from that side at the slant a light nobody measured is given."""
+    scene = synthetic.bumps((0.0, 0.0, 1.0), size=64)
+    sides = ["top", "left", "bottom", "right"]
+    paths = []
+    for side in sides:
+        paths.append(tmp_path / f"{side}.png")
+        shadecut.save_image(paths[-1], shadecut.render(scene.normals, shadecut.light_from_side(side), 0.8, scene.mask))
+    done = run(*paths, *[arg for side in sides for arg in ("--light", side)], "--out", tmp_path / "out", "--quiet")
+    assert done.returncode == 0, done.stderr
+    assert scene.mean_error(np.asarray(shadecut.load_image(tmp_path / "out" / "normals.exr").colour)) < 2.0
+    wrong = run(paths[0], "--light", "sideways", "--out", tmp_path / "wrong", "--quiet")
+    assert wrong.returncode == 2 and "three numbers X,Y,Z or a side such as top; got 'sideways'" in wrong.stderr
+    assert "top, bottom, left, right" in run("--help").stdout
+
+
 def test_the_system_reason_is_given_for_a_path_that_cannot_be_read(tmp_path):
     """Issue 48, finding 20: a symbolic link loop read 'there is no such file', an empty file 'Not a PNG
     file', a light just above the horizon 'S_z <= 0'."""

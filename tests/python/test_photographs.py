@@ -79,6 +79,55 @@ def test_bad_photographs_are_refused_with_a_message(change, message):
         shadecut.reconstruct(images, lights, scene.mask)
 
 
+def test_lights_named_by_their_sides_are_those_directions():
+    scene = synthetic.bumps((0, 0, 1), size=64)
+    sides = ["top", "bottom", "left", "right"]
+    lights = np.array([shadecut.light_from_side(side) for side in sides])
+    images = rendered(scene, lights)
+    by_side = shadecut.reconstruct(images, sides, scene.mask)
+    by_direction = shadecut.reconstruct(images, lights, scene.mask)
+    np.testing.assert_array_equal(by_side.normals, by_direction.normals)
+    np.testing.assert_allclose(by_side.lights, lights, atol=1e-12)
+    mixed = shadecut.reconstruct(images, ["top", "bottom", "left", lights[3]], scene.mask)
+    np.testing.assert_array_equal(mixed.normals, by_direction.normals)
+    alone = shadecut.reconstruct(scene.image, "top-right", scene.mask)
+    np.testing.assert_allclose(alone.light, shadecut.light_from_side("top-right"), atol=1e-12)
+    with pytest.raises(ValueError, match="'sideways' names no side of the image.*top, bottom, left, right"):
+        shadecut.reconstruct(images, ["top", "bottom", "left", "sideways"], scene.mask)
+    with pytest.raises(ValueError, match=r"slant from the viewer must lie in \(0, 90\)"):
+        shadecut.light_from_side("top", 90)
+
+
+FELT_RUG = DATA / "multi_angle" / "felt_rug"
+
+
+@pytest.mark.skipif(not FELT_RUG.is_dir(), reason=f"the felt rug's photographs are not in {FELT_RUG}")
+def test_the_felt_rugs_pebbles_are_domes_and_its_albedo_carries_no_shading():
+    """Four real photographs, the lights known only by their sides (issue 45): every pebble stands
+    above the crevice around it, and the de-lit colour does not follow any photograph's shading."""
+    from scipy import ndimage
+
+    sides = ["above", "below", "left", "right"]
+    photographs = [shadecut.load_image(FELT_RUG / f"{side}.jpg") for side in sides]
+    result = shadecut.reconstruct([photo.colour for photo in photographs], sides, scene="relief")
+    # The pebbles: where the photographs' mean, smoothed to a pebble's texture, is above its median
+    # (the crevices between them are dark under every light); each must be higher than its rim.
+    mean = ndimage.gaussian_filter(np.mean([photo.image for photo in photographs], axis=0), 3)
+    pebbles, count = ndimage.label(ndimage.binary_erosion(mean > np.median(mean), iterations=3))
+    higher = 0
+    for label in range(1, count + 1):
+        inside = pebbles == label
+        if inside.sum() < 400:
+            continue
+        rim = ndimage.binary_dilation(inside, iterations=12) & ~ndimage.binary_dilation(inside, iterations=6)
+        higher += result.depth[inside].mean() > result.depth[rim].mean()
+    large = sum(int((pebbles == label).sum() >= 400) for label in range(1, count + 1))
+    assert large >= 8 and higher >= 0.9 * large, (higher, large)
+    for light in result.lights:
+        shading = np.clip(result.normals @ light, 0.0, None)
+        assert abs(np.corrcoef(result.albedo_map.ravel(), shading.ravel())[0, 1]) <= 0.2
+
+
 @pytest.mark.skipif(not MATERIALS.is_dir(), reason=f"the scanned materials are not in {MATERIALS}")
 @pytest.mark.parametrize("name", materials.TEST)
 @pytest.mark.parametrize("count", [4, 8])

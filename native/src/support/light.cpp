@@ -37,4 +37,42 @@ Eigen::Vector3d LightFrame::normal(double s, double t) const {
   return to_camera * in_light_frame;
 }
 
+namespace {
+
+struct Side {
+  const char* name;
+  double azimuth_degrees;  // counter-clockwise from the image's right (+x), toward its top (+y)
+};
+
+constexpr Side kSides[] = {{"top", 90.0},         {"bottom", 270.0},    {"left", 180.0},
+                           {"right", 0.0},        {"top-left", 135.0},  {"top-right", 45.0},
+                           {"bottom-left", 225.0}, {"bottom-right", 315.0}, {"above", 90.0},
+                           {"below", 270.0}};
+
+}  // namespace
+
+const std::vector<std::string>& light_side_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all;
+    for (const Side& side : kSides) all.emplace_back(side.name);
+    return all;
+  }();
+  return names;
+}
+
+Eigen::Vector3d light_from_side(const std::string& side, double slant_degrees) {
+  if (!(slant_degrees > 0.0 && slant_degrees < 90.0))
+    throw InvalidArgument("shadecut: a light's slant from the viewer must lie in (0, 90) degrees; got " +
+                          number_text(slant_degrees));
+  for (const Side& known : kSides) {
+    if (side != known.name) continue;
+    const double slant = slant_degrees * M_PI / 180.0, azimuth = known.azimuth_degrees * M_PI / 180.0;
+    return {std::sin(slant) * std::cos(azimuth), std::sin(slant) * std::sin(azimuth), std::cos(slant)};
+  }
+  std::string words;
+  for (const std::string& name : light_side_names()) words += (words.empty() ? "" : ", ") + name;
+  throw InvalidArgument("shadecut: '" + side + "' names no side of the image a light can come from; the sides are " +
+                        words);
+}
+
 }  // namespace shadecut

@@ -66,7 +66,7 @@ TEST(Observations, OnePhotographInAListIsTheImageCall) {
 TEST(Observations, FourPhotographsGiveTheNormals) {
   const testing::Scene scene = testing::sphere_scene(96, 0.45, Eigen::Vector3d(0, 0, 1));
   std::vector<Observation> photographs;
-  for (const Eigen::Vector3d light : {Eigen::Vector3d(0, 0.64, 0.77), Eigen::Vector3d(-0.64, 0, 0.77),
+  for (const Eigen::Vector3d& light : {Eigen::Vector3d(0, 0.64, 0.77), Eigen::Vector3d(-0.64, 0, 0.77),
                                       Eigen::Vector3d(0, -0.64, 0.77), Eigen::Vector3d(0.64, 0, 0.77)})
     photographs.push_back(grey_observation(render_lambertian(scene.normals, light, 0.8, scene.mask), light));
   const Reconstruction result = reconstruct(photographs, &scene.mask, std::nullopt, ReconstructOptions{});

@@ -3,6 +3,9 @@
 
 #include <Eigen/Core>
 
+#include <string>
+#include <vector>
+
 namespace shadecut {
 
 /// A distant light, and the rotation between the light-source frame and the camera frame.
@@ -23,5 +26,20 @@ struct LightFrame {
   /// Camera-frame unit normal of light-frame slant `s` and tilt `t` (radians).
   Eigen::Vector3d normal(double s, double t) const;
 };
+
+/// The slant (degrees from the viewer) of a light named only by its side, as a multi-angle capture's
+/// lamp is when nobody measured it. The photographs cannot tell it: under Lambertian shading another
+/// slant of every light gives the same photographs of a deeper or flatter surface (the bas-relief
+/// ambiguity), so this fixes the depth's scale, not its forms.
+constexpr double kSideLightSlantDegrees = 45.0;
+
+/// The words light_from_side knows: "top", "bottom", "left", "right", "top-left", "top-right",
+/// "bottom-left", "bottom-right", and "above", "below" for "top", "bottom".
+const std::vector<std::string>& light_side_names();
+
+/// The unit direction toward a light from the image's `side` (a word of light_side_names()) at
+/// `slant_degrees` from the viewer, in (0, 90). Throws InvalidArgument naming the words for another
+/// word, and for a slant outside (0, 90).
+Eigen::Vector3d light_from_side(const std::string& side, double slant_degrees = kSideLightSlantDegrees);
 
 }  // namespace shadecut
