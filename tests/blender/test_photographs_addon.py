@@ -14,6 +14,7 @@ import pytest
 import shadecut
 from shadecut import synthetic
 from shadecut.blender import reconstruct_job, reconstruct_operator
+from shadecut.blender.light_input import UNPICKED_SIDE, side_in_file_name
 from shadecut.blender.result import NORMAL_NODE, NORMAL_TEXTURE
 from test_addon import add_sun, pixels_of, scene_state
 from test_addon_errors import Reports
@@ -24,6 +25,9 @@ AROUND = np.array([[0.0, 0.64, 0.77], [-0.64, 0.0, 0.77], [0.0, -0.64, 0.77], [0
 ALBEDO = 0.8
 SIZE = 96
 UI_SESSION = Path(__file__).with_name("photographs_ui_session.py")
+FELT_RUG = Path(__file__).resolve().parents[3] / "shared" / "data" / "multi_angle" / "felt_rug"
+# Photographs named by the side of their light, as a multi-angle capture names them: the file names and sides.
+SIDE_NAMED = {"sphere_top.png": "top", "IMG_Left.png": "left", "bottom.png": "bottom", "scan right.png": "right"}
 
 
 @pytest.fixture
@@ -206,6 +210,12 @@ def _bad_setup(case, sphere_photographs):
         settings.light_source = "ESTIMATE"
     elif case == "no image":
         rows.add()
+    elif case in ("same side", "synonym sides", "no side"):
+        settings.light_source = "SIDE"
+        sides = {"same side": ("left", "top", "bottom", "left"), "synonym sides": ("above", "left", "top", "right"),
+                 "no side": (UNPICKED_SIDE, "top", "bottom", "left")}[case]
+        for row, side in zip(rows, sides):
+            row.side = side
     else:
         settings.light_source = "OBJECT"
         suns = [add_sun(light, name=f"Sun {index}") for index, light in enumerate(AROUND)]
@@ -228,6 +238,11 @@ def _bad_setup(case, sphere_photographs):
     ("below the horizon", "The light of photograph 3 ('sphere_2.png') (0.3, 0.2, -1) cannot be used"),
     ("estimate", "Light is Estimate, which reads one photograph"),
     ("no image", "Photograph 5 has no image"),
+    ("same side", "Photograph 1 ('sphere_0.png') and photograph 4 ('sphere_3.png') are both lit from the left: "
+                  "a second photograph under the same light adds nothing"),
+    ("synonym sides", "Photograph 1 ('sphere_0.png') and photograph 3 ('sphere_2.png') are lit from 'above' and "
+                      "'top', one side: a second photograph under the same light adds nothing"),
+    ("no side", "Photograph 1 ('sphere_0.png') has no side of the image for its light (its file name names none)"),
 ])
 def test_bad_photographs_are_a_report_and_leave_nothing_behind(addon, sphere_photographs, case, message):
     _bad_setup(case, sphere_photographs)
@@ -298,3 +313,102 @@ def test_colour_photographs_give_their_de_lit_colour_as_base_color(addon, tmp_pa
     albedo = pixels_of(base_colour.image).reshape(SIZE, SIZE, 4)[::-1, :, :3]
     # 16-bit files round each value to 1 part in 65535 (sRGB-coded): the paint comes back to 1e-3.
     assert np.abs(albedo[shadecut.erode_mask(scene.mask, 2)] - paint).max() < 1e-3
+
+
+@pytest.mark.parametrize("file_name, side", [
+    ("above.jpg", "above"), ("rug_top.png", "top"), ("IMG_Left.JPG", "left"), ("scan-top-left.png", "top-left"),
+    ("bottom right.tif", "bottom-right"), ("felt_BELOW_2.jpg", "below"), ("top_right", "top-right"),
+    ("topography.png", None), ("IMG_0042.jpg", None), ("left_vs_right.png", None), ("copyright.png", None),
+])
+def test_a_side_is_read_as_a_whole_word_of_the_file_name(file_name, side):
+    assert side_in_file_name(file_name) == side
+
+
+@pytest.fixture
+def side_photographs(tmp_path):
+    """The sphere (albedo 0.8) under the library's light from each side that SIDE_NAMED names, saved
+    as 16-bit PNGs under those names: (the synthetic.Scene, the directory, the file names)."""
+    scene = synthetic.sphere((0.0, 0.0, 1.0), size=SIZE)
+    for name, side in SIDE_NAMED.items():
+        photograph = shadecut.render(scene.normals, shadecut.light_from_side(side), ALBEDO, scene.mask)
+        shadecut.save_image(tmp_path / name, photograph, scene.mask)
+    return scene, tmp_path, list(SIDE_NAMED)
+
+
+def test_photographs_named_by_side_are_lit_from_it_in_one_click(addon, side_photographs):
+    truth, directory, names = side_photographs
+    assert add_photographs(directory, names) == {"FINISHED"}
+    settings = bpy.context.scene.shadecut
+    assert [row.side for row in settings.photographs] == list(SIDE_NAMED.values())
+    assert settings.light_source == "SIDE"  # every file named its side: nothing to type
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    # The renders are exact Lambertian images under the very lights the sides give (16-bit rounding
+    # only): the normals are fixed outright wherever three light a pixel, as with typed lights.
+    assert truth.mean_error(decoded_normal_map(bpy.context.active_object)) < 1.0
+
+
+def test_the_finish_report_says_the_sides_slant_is_a_guess(addon, side_photographs):
+    assert add_photographs(*side_photographs[1:]) == {"FINISHED"}
+    job = reconstruct_job.prepare_job(bpy.context)
+    np.testing.assert_array_equal(job.light, [shadecut.light_from_side(side) for side in SIDE_NAMED.values()])
+    job.run()
+    operator = Reports()
+    assert reconstruct_job.finish_job(operator, bpy.context, job) == {"FINISHED"}
+    slant = f"{shadecut.SIDE_LIGHT_SLANT_DEGREES:g} degrees from the viewer"
+    assert f"4 photographs under lights from the sides of the image (top, left, bottom, right) at {slant}: a guess, " \
+           "which the depth's scale follows" in operator.last[1]
+
+
+def test_a_file_name_without_a_side_leaves_the_light_as_it_was(addon, sphere_photographs, side_photographs):
+    _, directory, names = side_photographs
+    assert add_photographs(directory, names[:3]) == {"FINISHED"}
+    assert add_photographs(sphere_photographs[1], sphere_photographs[2][:1]) == {"FINISHED"}
+    settings = bpy.context.scene.shadecut
+    assert settings.photographs[3].side == UNPICKED_SIDE  # for the user to pick; the reconstruction says so
+    settings.light_source = "DIRECTION"
+    assert add_photographs(directory, names[3:]) == {"FINISHED"}
+    assert settings.light_source == "DIRECTION"  # one row still has no side: the choice stays the user's
+
+
+def test_one_image_lit_from_a_side(addon, side_photographs):
+    _, directory, names = side_photographs
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(directory / names[1]))
+    settings.light_source = "SIDE"
+    with pytest.raises(RuntimeError, match=re.escape("The image has no side of the image for its light")):
+        bpy.ops.shadecut.reconstruct()
+    settings.light_side = "left"
+    job = reconstruct_job.prepare_job(bpy.context)
+    np.testing.assert_array_equal(job.light, shadecut.light_from_side("left"))
+
+
+def test_undo_removes_the_result_of_photographs_named_by_side(addon, side_photographs):
+    assert add_photographs(*side_photographs[1:]) == {"FINISHED"}
+    bpy.ops.ed.undo_push(message="before")
+    before = scene_state()
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    assert "sphere_top" in bpy.data.objects
+    bpy.ops.ed.undo_push(message="after")
+    bpy.ops.ed.undo()
+    assert "sphere_top" not in bpy.data.objects
+    assert scene_state() == before
+
+
+def test_the_felt_rugs_four_photographs_by_their_file_names(addon):
+    """Four real photographs lit from above, below, left and right, no light measured: added as a
+    user picks them, they need nothing typed and give a mesh with its normal map and de-lit albedo."""
+    if not FELT_RUG.is_dir():
+        pytest.skip(f"the felt rug's photographs are not in {FELT_RUG}")
+    names = ["above.jpg", "below.jpg", "left.jpg", "right.jpg"]
+    assert add_photographs(FELT_RUG, names) == {"FINISHED"}
+    settings = bpy.context.scene.shadecut
+    assert [row.side for row in settings.photographs] == ["above", "below", "left", "right"]
+    assert settings.light_source == "SIDE"
+    settings.scene = "relief"
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    obj = bpy.context.active_object
+    assert obj.name == "above" and obj.type == "MESH" and len(obj.data.vertices) > 0
+    nodes = obj.active_material.node_tree.nodes
+    base_colour = nodes["Principled BSDF"].inputs["Base Color"].links[0].from_node
+    assert base_colour.image.name == "above albedo" and tuple(base_colour.image.size) == (512, 384)
+    assert nodes[NORMAL_TEXTURE].outputs["Color"].links[0].to_node == nodes[NORMAL_NODE]

@@ -1,9 +1,12 @@
 """The lights of a reconstruction as the library takes them: unit directions in the camera frame,
-read from a Sun of the scene (as seen from the top or from a camera) or typed; one per photograph
-for the panel's Photographs."""
+read from a Sun of the scene (as seen from the top or from a camera), typed, or named by the side of
+the image they came from (a photograph's file name can name it); one per photograph for the panel's
+Photographs."""
 
 from __future__ import annotations
 
+import os
+import re
 from typing import Optional
 
 import bpy
@@ -12,7 +15,49 @@ import numpy as np
 from .. import api
 from .frames import FrameError, light_in_camera_frame
 from .image_input import InputError
-from .wording import short_number
+from .wording import sentence_start, short_number
+
+# A photograph row whose file name named no side: its side is for the user to pick.
+UNPICKED_SIDE = "UNPICKED"
+# A side word of the library standing whole between separators; the longest first, so that
+# "rug-top-left" reads 'top-left', not 'top'.
+_SIDE_WORD = re.compile("(?<![a-z0-9])(" + "|".join(re.escape(side) for side in
+                                                     sorted(api.LIGHT_SIDES, key=len, reverse=True))
+                        + ")(?![a-z0-9])")
+
+
+def side_in_file_name(file_name: str) -> Optional[str]:
+    """The side of the image (one of ``api.LIGHT_SIDES``) that a file name names as a whole word of its
+    stem, case-insensitive: 'above.jpg', 'rug_top.png', 'IMG_Left.jpg', 'bottom right.png'; None when
+    it names none, or two different ones."""
+    stem = os.path.splitext(os.path.basename(file_name))[0].lower()
+    found = {match.group(1) for match in _SIDE_WORD.finditer(re.sub(r"[\s_]+", "-", stem))}
+    return found.pop() if len(found) == 1 else None
+
+
+def side_of_image(image: Optional[bpy.types.Image]) -> Optional[str]:
+    """The side named by the file name of ``image`` (its name when it has no file); None without one."""
+    if image is None:
+        return None
+    return side_in_file_name(bpy.path.basename(image.filepath) or image.name)
+
+
+def side_origin(sides: list[str]) -> str:
+    """How the finish report names lights taken from sides of the image: at the library's one slant,
+    which nobody measured, so the depth's scale is a guess."""
+    named = ", ".join(sides)
+    return (f"light{'s' if len(sides) > 1 else ''} from the side{'s' if len(sides) > 1 else ''} of the image "
+            f"({named}) at {short_number(api.SIDE_LIGHT_SLANT_DEGREES)} degrees from the viewer: a guess, "
+            "which the depth's scale follows")
+
+
+def side_light(side: str, named: str) -> np.ndarray:
+    """The unit light from ``side`` (the library's rule); InputError when no side was picked for
+    ``named`` ("Photograph 2 ('x.png')", "The image")."""
+    if side == UNPICKED_SIDE:
+        raise InputError(f"{named} has no side of the image for its light (its file name names none): "
+                         "pick the side the light came from")
+    return api.light_from_side(side)
 
 
 def sun_light(context, settings, sun: bpy.types.Object) -> np.ndarray:
@@ -45,21 +90,41 @@ def photograph_name(rows, index: int) -> str:
     return f"photograph {index + 1}" + (f" ('{image.name}')" if image is not None else "")
 
 
+def _refuse_repeated(rows, keys: list, same, fix: str) -> None:
+    """InputError naming the first two photographs whose lights have the same key: ``same(first,
+    second)`` says how they are the same, ``fix`` what to do."""
+    seen: dict = {}
+    for index, key in enumerate(keys):
+        if key in seen:
+            first = seen[key]
+            raise InputError(f"{sentence_start(photograph_name(rows, first))} and {photograph_name(rows, index)} "
+                             f"{same(first, index)}: a second photograph under the same light adds nothing. {fix}")
+        seen[key] = index
+
+
+def photograph_sides(rows) -> np.ndarray:
+    """The unit light of each row from its side of the image; InputError for a row without a side, or
+    two rows lit from the same side ('above' is 'top')."""
+    lights = [side_light(row.side, sentence_start(photograph_name(rows, index))) for index, row in enumerate(rows)]
+    sides = [row.side for row in rows]
+    _refuse_repeated(rows, [tuple(np.round(light, 9)) for light in lights],
+                     lambda first, second: (f"are both lit from the {sides[first]}" if sides[first] == sides[second]
+                                            else f"are lit from '{sides[first]}' and '{sides[second]}', one side"),
+                     "Pick the side that lit each")
+    return np.array(lights)
+
+
 def photograph_suns(context, rows) -> tuple[list[bpy.types.Object], str]:
     """The Sun of each photograph: the rows' own, or with none picked the scene's Suns in name order,
     one per photograph; and how the finish report names them."""
     picked = [row.sun for row in rows]
     if all(picked):
-        for first in range(len(rows)):
-            for second in range(first + 1, len(rows)):
-                if picked[first] == picked[second]:
-                    raise InputError(f"{photograph_name(rows, first).capitalize()} and {photograph_name(rows, second)} "
-                                     f"both have Sun '{picked[first].name}': a second photograph under the same "
-                                     "light adds nothing. Pick the Sun that lit each")
+        _refuse_repeated(rows, [sun.name for sun in picked], lambda first, _: f"both have Sun '{picked[first].name}'",
+                         "Pick the Sun that lit each")
         return picked, "their Suns"
     if any(picked):
         missing = photograph_name(rows, picked.index(None))
-        raise InputError(f"{missing.capitalize()} has no Sun: pick one for every photograph, or for none to use "
+        raise InputError(f"{sentence_start(missing)} has no Sun: pick one for every photograph, or for none to use "
                          "the scene's Suns in name order")
     suns = sorted((obj for obj in context.scene.objects if obj.type == "LIGHT" and obj.data.type == "SUN"),
                   key=lambda sun: sun.name)
@@ -77,7 +142,10 @@ def photograph_lights(context, settings, rows) -> tuple[Optional[np.ndarray], st
         if len(rows) == 1:
             return None, "estimated light"
         raise InputError(f"Light is Estimate, which reads one photograph; {len(rows)} photographs need their "
-                         "lights: set Light to Sun (one per photograph) or Direction (typed in each row)")
+                         "lights: set Light to Sun (one per photograph), Direction (typed in each row) or Side of "
+                         "the image (picked in each row)")
+    if settings.light_source == "SIDE":
+        return photograph_sides(rows), side_origin([row.side for row in rows])
     if settings.light_source == "DIRECTION":
         raw, origin = [row.direction for row in rows], "their typed lights"
     else:

@@ -25,7 +25,8 @@ def _toggled_value(column, settings, toggle: str, value: str, *, heading: str, t
 
 
 class SHADECUT_UL_photographs(bpy.types.UIList):
-    """A row of the Photographs list: the image, and its light as the Light setting reads it."""
+    """A row of the Photographs list: the image, and its light as the Light setting reads it (a Sun, a
+    direction, or a side of the image)."""
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_property, index=0, flt_flag=0):
         row = layout.row(align=True)
@@ -34,6 +35,8 @@ class SHADECUT_UL_photographs(bpy.types.UIList):
             row.prop(item, "sun", text="")
         elif data.light_source == "DIRECTION":
             row.prop(item, "direction", text="")
+        elif data.light_source == "SIDE":
+            row.prop(item, "side", text="")
 
 
 def _draw_photographs(column, settings) -> None:
@@ -45,7 +48,7 @@ def _draw_photographs(column, settings) -> None:
     buttons.operator(SHADECUT_OT_photographs_add.bl_idname, text="", icon="ADD")
     buttons.operator(SHADECUT_OT_photographs_remove.bl_idname, text="", icon="REMOVE")
     if len(settings.photographs) > 1 and settings.light_source == "ESTIMATE":
-        column.label(text="Several photographs: set Light to Sun or Direction", icon="ERROR")
+        column.label(text="Several photographs: set Light to Sun, Direction or Side", icon="ERROR")
 
 
 def draw_reconstruct_settings(layout, settings) -> None:
@@ -80,6 +83,8 @@ def draw_reconstruct_settings(layout, settings) -> None:
             column.prop(settings, "camera")
     elif settings.light_source == "DIRECTION" and not several:
         column.prop(settings, "light_direction")
+    elif settings.light_source == "SIDE" and not several:
+        column.prop(settings, "light_side")
     if not several:
         light_preview.draw(column, bpy.context, settings)
 

@@ -1,7 +1,8 @@
 """The panel's Photographs list: several photographs of one view, each under its own light. "Add"
 loads the files picked in the file browser (several at once; none picked: every image of the
-folder, in name order), one row each; "Remove" takes the active row out of the list (its image
-stays in the .blend)."""
+folder, in name order), one row each; a file name that names a side of the image gives its row that
+side, and when every row has one, Light becomes Side of the image. "Remove" takes the active row out
+of the list (its image stays in the .blend)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import os
 import bpy
 
 from .image_input import InputError, load_file
+from .light_input import UNPICKED_SIDE
 
 
 def _image_files_in(directory: str) -> list[str]:
@@ -19,6 +21,17 @@ def _image_files_in(directory: str) -> list[str]:
         return []
     return sorted(name for name in os.listdir(path) if os.path.isfile(os.path.join(path, name))
                   and os.path.splitext(name)[1].lower() in bpy.path.extensions_image)
+
+
+def _light_wording(settings) -> str:
+    """Sets Light to Side of the image when every row's file name named its side, and says so; else
+    what is left to do."""
+    sides = [row.side for row in settings.photographs]
+    if UNPICKED_SIDE in sides:
+        return "give each its light (a Sun, a typed direction or a side of the image), then Reconstruct"
+    settings.light_source = "SIDE"
+    return (f"lit from the sides their file names name ({', '.join(sides)}): Light set to Side of the image. "
+            "Reconstruct")
 
 
 class SHADECUT_OT_photographs_add(bpy.types.Operator):
@@ -55,12 +68,12 @@ class SHADECUT_OT_photographs_add(bpy.types.Operator):
                     bpy.data.images.remove(image)
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
-        photographs = context.scene.shadecut.photographs
+        settings = context.scene.shadecut
         for image, _ in loaded:
-            photographs.add().image = image
-        context.scene.shadecut.photograph_index = len(photographs) - 1
-        self.report({"INFO"}, f"{len(loaded)} photograph{'s' if len(loaded) > 1 else ''} added ({len(photographs)} "
-                              "in the list): give each its light (a Sun, or a typed direction), then Reconstruct")
+            settings.photographs.add().image = image  # its Side read from the file name (properties._read_side)
+        settings.photograph_index = len(settings.photographs) - 1
+        added = f"{len(loaded)} photograph{'s' if len(loaded) > 1 else ''} added ({len(settings.photographs)} in the list)"
+        self.report({"INFO"}, f"{added}: {_light_wording(settings)}")
         return {"FINISHED"}
 
 

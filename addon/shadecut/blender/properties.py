@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import bpy
 
-from ..api import MAX_VERTICES, AlbedoMethod, Integrator, ReconstructOptions, SceneKind, option_fields
+from ..api import (LIGHT_SIDES, MAX_VERTICES, SIDE_LIGHT_SLANT_DEGREES, AlbedoMethod, Integrator, ReconstructOptions,
+                   SceneKind, option_fields)
 from . import lambertian
+from .light_input import UNPICKED_SIDE, side_of_image
 from .preferences import METHOD_ITEMS
 
 # The library's defaults and ranges, held once in C++ (its option table); the panel starts from them.
@@ -62,12 +64,35 @@ def _is_sun(_settings, ob) -> bool:
 DEFAULT_DIRECTION = (1.0, 0.0, 1.0)
 
 
+def _side_item(side: str) -> tuple[str, str, str]:
+    """The Side menu's item of one of the library's sides ('above' and 'below' are 'top' and 'bottom')."""
+    same = {"above": "top", "below": "bottom"}.get(side)
+    where = f"{side}: the {same} of the image (the same light)" if same else f"the {side} of the image"
+    return side, side.capitalize(), f"Lit from {where}, {SIDE_LIGHT_SLANT_DEGREES:g} degrees from the viewer"
+
+
+# The library's sides of the image, each a light at its one slant; first, none picked yet.
+SIDE_ITEMS = ((UNPICKED_SIDE, "Pick a side", "No side picked yet: pick the side of the image the light came from"),
+              *(_side_item(side) for side in LIGHT_SIDES))
+SIDE_DESCRIPTION = (f"The side of the image the light came from, at {SIDE_LIGHT_SLANT_DEGREES:g} degrees from the "
+                    "viewer (an unmeasured lamp: that slant only scales the depth)")
+
+
+def _read_side(row, _context) -> None:
+    """A photograph whose file name names a side of the image ('above.jpg', 'rug_left.png') is lit from it."""
+    side = side_of_image(row.image)
+    if side is not None:
+        row.side = side
+
+
 class ShadeCutPhotograph(bpy.types.PropertyGroup):
     """One of several photographs of one view (the panel's Photographs list), with its own light."""
 
     image: bpy.props.PointerProperty(
         name="Image", type=bpy.types.Image,
-        description="A photograph of the view, taken from the same place as the others under its own light",
+        description="A photograph of the view, taken from the same place as the others under its own light. "
+                    "A file name that names a side of the image ('above.jpg', 'rug_left.png') sets its Side",
+        update=_read_side,
     )
     sun: bpy.props.PointerProperty(
         name="Sun", type=bpy.types.Object, poll=_is_sun,
@@ -78,6 +103,7 @@ class ShadeCutPhotograph(bpy.types.PropertyGroup):
         name="Direction", size=3, default=DEFAULT_DIRECTION, subtype="XYZ",
         description="Toward this photograph's light, as seen in it: x right, y up, z toward you",
     )
+    side: bpy.props.EnumProperty(name="Side", items=SIDE_ITEMS, default=UNPICKED_SIDE, description=SIDE_DESCRIPTION)
 
 
 class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
@@ -136,6 +162,8 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
             ("OBJECT", "Sun", "Use a Sun lamp of the scene that lights the image as the light did"),
             ("DIRECTION", "Direction", "Type the direction toward the light as seen in the image: "
                                        "x right, y up, z toward you"),
+            ("SIDE", "Side of the image", "Name the side of the image the light came from (top, left, ...) "
+                                          "when nobody measured it: the photographs' file names can name it"),
         ),
         default="ESTIMATE",
         description="Where the light that shaded the image came from",
@@ -148,6 +176,8 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         name="Direction", size=3, default=DEFAULT_DIRECTION, subtype="XYZ",
         description="Toward the light, as seen in the image: x right, y up, z toward you",
     )
+    light_side: bpy.props.EnumProperty(name="Side", items=SIDE_ITEMS, default=UNPICKED_SIDE,
+                                       description=SIDE_DESCRIPTION)
     frame: bpy.props.EnumProperty(
         name="Seen from",
         items=(

@@ -17,7 +17,7 @@ from .. import api
 from .flip_operator import RESULT_PROPERTY, report_orientation
 from .image_input import (InputError, image_orientation, image_pixels, image_to_reconstruct, picked_mask,
                           read_photographs, show_mask)
-from .light_input import photograph_lights, sun_light, unit_light
+from .light_input import photograph_lights, side_light, side_origin, sun_light, unit_light
 from .preferences import addon_preferences
 from .mesh import MeshError
 from .result import TargetError, apply_maps, check_collection, check_target, limited_depth_scale, result_object
@@ -99,6 +99,8 @@ def _light(context, settings) -> tuple[Optional[np.ndarray], str]:
         return None, "estimated light"
     if settings.light_source == "DIRECTION":
         return unit_light(settings.light_direction), "light"
+    if settings.light_source == "SIDE":
+        return side_light(settings.light_side, "The image"), side_origin([settings.light_side])
     sun, origin = _sun(context, settings)
     return unit_light(sun_light(context, settings, sun)), origin
 

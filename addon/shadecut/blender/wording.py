@@ -21,3 +21,9 @@ def short_bytes(count: float) -> str:
             return f"{count:.3g} {unit}"
         count /= 1000
     return f"{count:,.3g} TB"
+
+
+def sentence_start(text: str) -> str:
+    """``text`` opening a sentence: its first letter a capital, the rest untouched (str.capitalize
+    would lower a file name within it: 'IMG_Left.JPG')."""
+    return text[:1].upper() + text[1:]
