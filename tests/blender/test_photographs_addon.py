@@ -137,18 +137,23 @@ def test_one_photograph_in_the_list_is_the_single_image(addon, sphere_photograph
     np.testing.assert_array_equal(listed.result.normals, alone.result.normals)
 
 
-def test_undo_removes_the_result(addon, sphere_photographs):
+@pytest.mark.parametrize("lit_from", ["typed lights", "sides named by the files"])
+def test_undo_removes_the_result(addon, request, lit_from):
     """Background mode pushes no undo step for an operator called from Python (see test_flip): the
     flags are checked, and undoing past the operator takes the result out again."""
     assert {"REGISTER", "UNDO"} <= bpy.types.SHADECUT_OT_reconstruct.bl_options
-    with_typed_lights(sphere_photographs)
+    if lit_from == "typed lights":
+        with_typed_lights(request.getfixturevalue("sphere_photographs"))
+    else:
+        assert add_photographs(*request.getfixturevalue("side_photographs")[1:]) == {"FINISHED"}
+    name = Path(bpy.context.scene.shadecut.photographs[0].image.name).stem  # the result's, after the first
     bpy.ops.ed.undo_push(message="before")
     before = scene_state()
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
-    assert "sphere_0" in bpy.data.objects
+    assert name in bpy.data.objects
     bpy.ops.ed.undo_push(message="after")
     bpy.ops.ed.undo()
-    assert "sphere_0" not in bpy.data.objects
+    assert name not in bpy.data.objects
     assert scene_state() == before
 
 
@@ -380,18 +385,6 @@ def test_one_image_lit_from_a_side(addon, side_photographs):
     settings.light_side = "left"
     job = reconstruct_job.prepare_job(bpy.context)
     np.testing.assert_array_equal(job.light, shadecut.light_from_side("left"))
-
-
-def test_undo_removes_the_result_of_photographs_named_by_side(addon, side_photographs):
-    assert add_photographs(*side_photographs[1:]) == {"FINISHED"}
-    bpy.ops.ed.undo_push(message="before")
-    before = scene_state()
-    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
-    assert "sphere_top" in bpy.data.objects
-    bpy.ops.ed.undo_push(message="after")
-    bpy.ops.ed.undo()
-    assert "sphere_top" not in bpy.data.objects
-    assert scene_state() == before
 
 
 def test_the_felt_rugs_four_photographs_by_their_file_names(addon):
