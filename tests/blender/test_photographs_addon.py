@@ -397,10 +397,9 @@ def test_the_felt_rugs_four_photographs_by_their_file_names(addon):
     settings = bpy.context.scene.shadecut
     assert [row.side for row in settings.photographs] == ["above", "below", "left", "right"]
     assert settings.light_source == "SIDE"
-    settings.scene = "relief"
     assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
     obj = bpy.context.active_object
-    assert obj.name == "above" and obj.type == "MESH" and len(obj.data.vertices) > 0
+    assert obj.name == "above" and obj.type == "MESH" and len(obj.data.vertices) == 512 * 384  # the whole rug
     nodes = obj.active_material.node_tree.nodes
     base_colour = nodes["Principled BSDF"].inputs["Base Color"].links[0].from_node
     assert base_colour.image.name == "above albedo" and tuple(base_colour.image.size) == (512, 384)

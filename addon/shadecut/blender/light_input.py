@@ -51,12 +51,11 @@ def side_origin(sides: list[str]) -> str:
             "which the depth's scale follows")
 
 
-def side_light(side: str, named: str) -> np.ndarray:
+def side_light(side: str, named: str, why: str = "") -> np.ndarray:
     """The unit light from ``side`` (the library's rule); InputError when no side was picked for
-    ``named`` ("Photograph 2 ('x.png')", "The image")."""
+    ``named`` ("Photograph 2 ('x.png')", "The image"), saying ``why`` none was."""
     if side == UNPICKED_SIDE:
-        raise InputError(f"{named} has no side of the image for its light (its file name names none): "
-                         "pick the side the light came from")
+        raise InputError(f"{named} has no side of the image for its light{why}: pick the side the light came from")
     return api.light_from_side(side)
 
 
@@ -105,7 +104,8 @@ def _refuse_repeated(rows, keys: list, same, fix: str) -> None:
 def photograph_sides(rows) -> np.ndarray:
     """The unit light of each row from its side of the image; InputError for a row without a side, or
     two rows lit from the same side ('above' is 'top')."""
-    lights = [side_light(row.side, sentence_start(photograph_name(rows, index))) for index, row in enumerate(rows)]
+    lights = [side_light(row.side, sentence_start(photograph_name(rows, index)), " (its file name names none)")
+              for index, row in enumerate(rows)]
     sides = [row.side for row in rows]
     _refuse_repeated(rows, [tuple(np.round(light, 9)) for light in lights],
                      lambda first, second: (f"are both lit from the {sides[first]}" if sides[first] == sides[second]
