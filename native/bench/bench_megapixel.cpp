@@ -16,6 +16,7 @@
 //
 // Run: ./build/native/shadecut_bench --benchmark_filter=BM_Megapixel --benchmark_repetitions=3
 // or scripts/benchmark_megapixel.py, which prints the medians and their ratios as a table.
+#include "bench_bump_field.hpp"
 #include "bench_stages.hpp"
 
 #include <shadecut/estimate/estimate_light.hpp>
@@ -46,8 +47,6 @@ using Clock = std::chrono::steady_clock;
 
 constexpr double kAlbedo = 1.0;
 constexpr int kReferenceCycles = 3;
-constexpr std::uint32_t kSceneSeed = 2024;
-constexpr int kBumps = 48;
 
 Eigen::Vector3d scene_light() { return {0.7, 0.2, 1.0}; }
 
@@ -58,42 +57,12 @@ struct BumpField {
   Mask mask;
 };
 
-// Uniform in [0, 1) from mt19937's raw output, which the standard fixes, unlike its distributions:
-// the picture is then the same with every standard library.
-double unit_uniform(std::mt19937& generator) { return generator() / 4294967296.0; }
-
-// Bumps and dents of random sign placed in the unit square and drawn at `size` pixels, so every size
-// shows the same picture; cached per size.
+// The benchmarks' bump field rendered under scene_light(); cached per size.
 const BumpField& bump_field(int size) {
   static std::map<int, BumpField> cache;
   const auto found = cache.find(size);
   if (found != cache.end()) return found->second;
-  struct Bump {
-    double x, y, sigma, height;
-  };
-  std::mt19937 generator(kSceneSeed);
-  std::vector<Bump> bumps(kBumps);
-  for (Bump& bump : bumps) {
-    bump.x = unit_uniform(generator);
-    bump.y = unit_uniform(generator);
-    bump.sigma = 0.03 + 0.04 * unit_uniform(generator);
-    // A height in proportion to the width gives a lone bump the same steepest slope, 30 to 40
-    // degrees, at every size: strong shading, with attached shadow only where bumps overlap.
-    const double sign = unit_uniform(generator) < 0.5 ? -1.0 : 1.0;
-    bump.height = sign * (1.0 + 0.5 * unit_uniform(generator)) * bump.sigma;
-  }
-  ImageF depth(size, size);
-  for (int r = 0; r < size; ++r) {
-    for (int c = 0; c < size; ++c) {
-      const double x = (c + 0.5) / size, y = (r + 0.5) / size;
-      double z = 0.0;
-      for (const Bump& bump : bumps) {
-        const double d2 = (x - bump.x) * (x - bump.x) + (y - bump.y) * (y - bump.y);
-        z += bump.height * std::exp(-d2 / (2.0 * bump.sigma * bump.sigma));
-      }
-      depth(r, c) = float(size * z);
-    }
-  }
+  const ImageF depth = bench::bump_field_depth(size);
   const Mask mask = Mask::Constant(size, size, true);
   BumpField field{render_lambertian(normals_from_depth(depth, mask), scene_light(), kAlbedo, mask), mask};
   return cache.emplace(size, std::move(field)).first->second;
