@@ -23,17 +23,30 @@ PixelFitter::PixelFitter(const std::vector<Eigen::Vector3d>& lights, double shad
       outlier_tolerance_(outlier_tolerance),
       intensity_(lights.size(), 0.0) {}
 
-bool PixelFitter::solve(const std::vector<int>& set, Eigen::Vector3d& scaled_normal) const {
-  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-  for (const int k : set) {
-    const Eigen::Vector3d& light = lights_[std::size_t(k)];
-    normal_matrix.noalias() += light * light.transpose();
-    rhs += intensity_[std::size_t(k)] * light;
+const PixelFitter::SetInverse& PixelFitter::set_inverse(const std::vector<int>& set) {
+  const bool cached = lights_.size() <= 64;
+  std::uint64_t bits = 0;
+  if (cached) {
+    for (const int k : set) bits |= std::uint64_t(1) << k;
+    const auto found = inverses_.find(bits);
+    if (found != inverses_.end()) return found->second;
   }
+  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+  for (const int k : set) normal_matrix.noalias() += lights_[std::size_t(k)] * lights_[std::size_t(k)].transpose();
+  SetInverse inverse;
   // det(L^T L) is the sum of the squared triple products of the set's lights (Cauchy-Binet).
-  if (!(normal_matrix.determinant() > kMinTripleProduct * kMinTripleProduct)) return false;
-  scaled_normal = normal_matrix.ldlt().solve(rhs);
+  inverse.solvable = normal_matrix.determinant() > kMinTripleProduct * kMinTripleProduct;
+  if (inverse.solvable) inverse.inverse = normal_matrix.inverse();
+  if (!cached) return uncached_ = inverse;
+  return inverses_.emplace(bits, inverse).first->second;
+}
+
+bool PixelFitter::solve(const std::vector<int>& set, Eigen::Vector3d& scaled_normal) {
+  const SetInverse& inverse = set_inverse(set);
+  if (!inverse.solvable) return false;
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  for (const int k : set) rhs += intensity_[std::size_t(k)] * lights_[std::size_t(k)];
+  scaled_normal = inverse.inverse * rhs;
   return scaled_normal.allFinite();
 }
 
@@ -84,10 +97,8 @@ int PixelFitter::outlier() {
   return best;
 }
 
-double PixelFitter::largest_deviation(const Eigen::Vector3d& scaled_normal) const {
-  Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
-  for (const int k : used_) normal_matrix.noalias() += lights_[std::size_t(k)] * lights_[std::size_t(k)].transpose();
-  const Eigen::Matrix3d inverse = normal_matrix.inverse();
+double PixelFitter::largest_deviation(const Eigen::Vector3d& scaled_normal) {
+  const Eigen::Matrix3d& inverse = set_inverse(used_).inverse;
   double largest = 0.0;
   for (const int k : used_) {
     const Eigen::Vector3d& light = lights_[std::size_t(k)];

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 namespace shadecut::detail {
@@ -34,10 +35,17 @@ class PixelFitter {
   PixelFit fit(const std::vector<ImageF>& images, const std::vector<Mask>& clipped, int r, int c);
 
  private:
-  bool solve(const std::vector<int>& set, Eigen::Vector3d& scaled_normal) const;
+  // (sum over the set of S S^T)^-1, and whether the set's lights fix a normal; cached per set.
+  struct SetInverse {
+    bool solvable = false;
+    Eigen::Matrix3d inverse = Eigen::Matrix3d::Zero();
+  };
+  const SetInverse& set_inverse(const std::vector<int>& set);
+
+  bool solve(const std::vector<int>& set, Eigen::Vector3d& scaled_normal);
   double rms(const std::vector<int>& set, const Eigen::Vector3d& scaled_normal) const;
   void select_lit(double threshold);
-  double largest_deviation(const Eigen::Vector3d& scaled_normal) const;
+  double largest_deviation(const Eigen::Vector3d& scaled_normal);
   void drop_outliers(Eigen::Vector3d& scaled_normal);
   int outlier();
 
@@ -45,6 +53,9 @@ class PixelFitter {
   double shadow_fraction_, outlier_tolerance_;
   std::vector<double> intensity_;
   std::vector<int> available_, used_, previous_, trial_;
+  // The sets met so far, by their bits (photographs 0..63); more photographs are not cached.
+  std::unordered_map<std::uint64_t, SetInverse> inverses_;
+  SetInverse uncached_;
 };
 
 /// photometric_stereo's checks of its photographs, lights and masks; returns the unit lights.

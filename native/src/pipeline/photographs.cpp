@@ -52,19 +52,16 @@ void check_photographs(const std::vector<Observation>& photographs, const Mask* 
 // (photometric_colour_albedo), and how far the photographs are from the result.
 void fit_albedo_and_residual(const std::vector<Observation>& photographs, const LightDirections& lights,
                              const PhotometricStereoParams& params, Reconstruction& result) {
-  std::vector<ColourImage> colours;
-  for (const Observation& photograph : photographs) {
-    if (photograph.has_colour()) {
-      colours.push_back(photograph.colour);
-    } else {
-      ColourImage grey;
-      grey.channel.fill(photograph.image);
-      colours.push_back(std::move(grey));
-    }
+  if (photographs.front().has_colour()) {
+    std::vector<ColourImage> colours;
+    for (const Observation& photograph : photographs) colours.push_back(photograph.colour);
+    result.albedo_colour = photometric_colour_albedo(colours, lights, result.normals, result.mask, {}, params);
+    result.albedo_map = luminance(result.albedo_colour);
+  } else {
+    std::vector<ImageF> images;
+    for (const Observation& photograph : photographs) images.push_back(photograph.image);
+    result.albedo_map = photometric_albedo(images, lights, result.normals, result.mask, {}, params);
   }
-  ColourImage albedo = photometric_colour_albedo(colours, lights, result.normals, result.mask, {}, params);
-  result.albedo_map = photographs.front().has_colour() ? luminance(albedo) : albedo.channel[0];
-  if (photographs.front().has_colour()) result.albedo_colour = std::move(albedo);
   result.residual = ImageF::Zero(result.mask.rows(), result.mask.cols());
   parallel_for(int(result.mask.size()), 4096, 0, [&](int i) {
     if (!result.mask.data()[i]) return;
@@ -86,23 +83,29 @@ NormalMap photographs_normals(const std::vector<Observation>& photographs, const
   std::vector<ImageF> images;
   for (const Observation& photograph : photographs) images.push_back(photograph.image);
   Stopwatch stage;
-  const PhotometricStereoResult fitted = photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kFitShare));
+  PhotometricStereoResult fitted = photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kFitShare));
   stats.seconds["photometric stereo"] = stage.seconds();
   stats.pair_pixels = fitted.pair_pixels;
   stats.single_pixels = fitted.single_pixels;
   stats.dark_pixels = fitted.dark_pixels;
-  stage.restart();
-  CandidateCutParams cut_params;
-  cut_params.smoothness = options.candidate_smoothness;
-  CandidateCutResult chosen = choose_candidates(photometric_candidates(fitted), cut_params, progress.range(kFitShare, kCutShare));
-  stats.seconds["candidate cut"] = stage.seconds();
-  stats.cycles = chosen.cycles;
-  stats.accepted_moves = chosen.accepted_moves;
   fill = mask && (fitted.usable < 2);
+  NormalMap normals;
+  if (fitted.pair_pixels == 0) {
+    normals = std::move(fitted.normals);  // no pixel has two candidates: the fits are the choice
+  } else {
+    stage.restart();
+    CandidateCutParams cut_params;
+    cut_params.smoothness = options.candidate_smoothness;
+    CandidateCutResult chosen = choose_candidates(photometric_candidates(fitted), cut_params, progress.range(kFitShare, kCutShare));
+    stats.seconds["candidate cut"] = stage.seconds();
+    stats.cycles = chosen.cycles;
+    stats.accepted_moves = chosen.accepted_moves;
+    normals = std::move(chosen.normals);
+  }
   // A pixel to fill needs a normal to start from: facing the viewer.
   for (Eigen::Index i = 0; i < fill.size(); ++i)
-    if (fill.data()[i]) chosen.normals.xyz.row(i) << 0.0f, 0.0f, 1.0f;
-  return std::move(chosen.normals);
+    if (fill.data()[i]) normals.xyz.row(i) << 0.0f, 0.0f, 1.0f;
+  return normals;
 }
 
 }  // namespace
@@ -140,7 +143,9 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   result.stats.shadow_pixels = surface.filled_pixels;
   // A relief sits on a flat carrier; its normals stay the photographs', which hold its large forms too.
   if (options.scene == SceneKind::Relief && !options.seamless) flatten_relief(result.depth, mask);
+  const Stopwatch albedo_fit;
   fit_albedo_and_residual(photographs, directions, params, result);
+  result.stats.seconds["albedo"] = albedo_fit.seconds();
   const ImageF fitted_albedo = mask.select(result.albedo_map, 0.0f);
   std::vector<float> values;
   for (Eigen::Index i = 0; i < fitted_albedo.size(); ++i)

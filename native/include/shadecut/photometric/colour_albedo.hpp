@@ -30,4 +30,10 @@ ColourImage photometric_colour_albedo(const std::vector<ColourImage>& photograph
                                       const NormalMap& normals, const Mask& mask, const std::vector<Mask>& clipped = {},
                                       const PhotometricStereoParams& params = {});
 
+/// photometric_colour_albedo of grey photographs (H x W linear intensity each): the same rules, one
+/// channel, without three copies of each photograph.
+ImageF photometric_albedo(const std::vector<ImageF>& photographs, const LightDirections& lights, const NormalMap& normals,
+                          const Mask& mask, const std::vector<Mask>& clipped = {},
+                          const PhotometricStereoParams& params = {});
+
 }  // namespace shadecut
