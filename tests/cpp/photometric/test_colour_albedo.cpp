@@ -4,6 +4,7 @@
 #include <shadecut/photometric/colour_albedo.hpp>
 #include <shadecut/support/angular_error.hpp>
 #include <shadecut/support/errors.hpp>
+#include <shadecut/pipeline/observation.hpp>
 
 #include <gtest/gtest.h>
 
@@ -66,6 +67,18 @@ TEST(ColourAlbedo, ThePaintUnderTheTrueNormalsHighlightsLeftOut) {
   EXPECT_LT(worst_paint_error(albedo, set), params.outlier_tolerance);
   EXPECT_GT(worst_paint_error(with_highlights, set), 2.0 * params.outlier_tolerance);
   EXPECT_EQ(albedo.channel[0](0, 0), 0.0f);  // outside the mask
+}
+
+// Grey photographs follow the same rules in one channel: the luminance of the colour fit, highlights
+// left out the same way.
+TEST(ColourAlbedo, GreyPhotographsGiveTheLuminanceOfTheColourFit) {
+  const ColourSet set = painted_sphere();
+  std::vector<ImageF> grey;
+  for (const ColourImage& photo : set.photographs) grey.push_back(luminance(photo));
+  const ImageF albedo = photometric_albedo(grey, set.lights, set.scene.normals, set.scene.mask);
+  const ImageF expected = luminance(photometric_colour_albedo(set.photographs, set.lights, set.scene.normals, set.scene.mask));
+  EXPECT_LT((albedo - expected).abs().maxCoeff(), 1e-5f);
+  EXPECT_THROW(photometric_albedo(grey, set.lights.topRows(3), set.scene.normals, set.scene.mask), InvalidArgument);
 }
 
 TEST(ColourAlbedo, RefusesBadInput) {
