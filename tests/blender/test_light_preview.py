@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from mathutils import Euler
 
+import shadecut
 from shadecut.blender import light_preview
 
 
@@ -59,3 +60,13 @@ def test_the_panel_shows_the_typed_direction_and_follows_a_sun(addon):
     sun.rotation_euler = Euler((0.0, math.radians(180), 0.0))  # shining up from below: no preview
     bpy.context.view_layer.update()
     assert light_preview.panel_light(bpy.context, settings) is None
+
+
+def test_the_panel_shows_a_light_named_by_its_side(addon):
+    settings = bpy.context.scene.shadecut
+    settings.light_source = "SIDE"
+    assert light_preview.panel_light(bpy.context, settings) is None  # no side picked yet
+    settings.light_side = "top-left"
+    light = light_preview.panel_light(bpy.context, settings)
+    np.testing.assert_allclose(light, shadecut.light_from_side("top-left"), atol=1e-12)
+    assert light[0] < 0 < light[1]

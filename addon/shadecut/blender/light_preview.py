@@ -56,6 +56,8 @@ def panel_light(context, settings) -> Optional[tuple[float, float, float]]:
             if settings.frame == "CAMERA" and camera is None:
                 return None
             light = light_in_camera_frame(sun, camera)
+        elif settings.light_source == "SIDE" and settings.light_side in api.LIGHT_SIDES:
+            light = api.light_from_side(settings.light_side)
         else:
             return None
         return tuple(float(v) for v in api.light_direction(np.array(light, dtype=float)))
