@@ -378,7 +378,8 @@ def estimate_light(image, mask=None, method: Optional[str] = None,
     :func:`reconstruct` uses for ``scene`` (:meth:`ReconstructOptions.light_method_used`). The image
     is read clipped at ``albedo`` (None = :func:`estimate_albedo`'s), above which a highlight would
     pull the light toward it, as :func:`reconstruct` does; "relief" takes ``albedo`` as the albedo
-    and otherwise reads it from the relief's brightest pixels.
+    and otherwise reads it from the relief's brightest pixels. ValueError for a mask of fewer than
+    16 pixels, whose shading has no statistics to read.
     """
     if method is None:
         method = ReconstructOptions(scene=scene).light_method_used()

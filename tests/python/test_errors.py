@@ -255,6 +255,21 @@ def test_estimate_light_refuses_a_bad_albedo_like_reconstruct(albedo):
             shadecut.estimate_light(GOOD, method=method, albedo=albedo)
 
 
+def test_a_light_is_not_estimated_from_a_handful_of_pixels():
+    """Issue 48, finding 21: a one-pixel mask's light read (0, 0, 1) without a word."""
+    scene = synthetic.sphere((1, 0, 1), size=64)
+    few = np.zeros_like(scene.mask)
+    few[30:33, 40:45] = True  # 15 pixels, all on the sphere
+    for method in shadecut.LIGHT_METHODS:
+        with pytest.raises(ValueError, match="cannot be estimated from 15 pixels.*at least 16 pixels; give the light"):
+            shadecut.estimate_light(scene.image, few, method=method)
+    with pytest.raises(ValueError, match="cannot be estimated from 15 pixels"):
+        shadecut.reconstruct(scene.image, None, few)
+    few[33, 40] = True
+    shadecut.estimate_light(scene.image, few)  # sixteen are read
+    assert shadecut.reconstruct(scene.image, scene.light, few).mask.sum() == 15 + 1
+
+
 def test_the_default_pixel_limit_is_the_core_s_for_the_add_on():
     """The add-on ships _core without _imageio; the limit load_image applies is readable from both."""
     from shadecut import _core, _imageio

@@ -39,6 +39,10 @@ LightEstimate estimate_light(const ImageF& image_in, const Mask& mask, LightMeth
   check_mask(mask, image_in);
   if (image_in.minCoeff() < 0.0f) throw InvalidArgument("shadecut: the image has negative intensities; linear intensity is >= 0");
   if (ceiling) check_albedo(*ceiling);
+  if (mask.count() < kMinLightPixels)
+    throw InvalidArgument("shadecut: the light cannot be estimated from " + std::to_string(mask.count()) +
+                          " pixel" + (mask.count() == 1 ? "" : "s") + ": the estimators read the statistics of the "
+                          "shading over at least " + std::to_string(kMinLightPixels) + " pixels; give the light");
   if (method == LightMethod::Relief) return detail::estimate_relief_light(image_in, mask, ceiling);
   if (method == LightMethod::Contour)
     return detail::estimate_contour_light(image_in, mask, ceiling ? *ceiling : estimate_albedo(image_in, mask));

@@ -49,6 +49,11 @@ std::string to_string(LightMethod estimator);
 /// which reconstruct() rejects, so every estimator stops just above it.
 constexpr double kMaxEstimatedSlant = 89.0 * M_PI / 180.0;
 
+/// The fewest masked pixels a light is estimated from: every estimator reads statistics of the
+/// shading (its moments, its gradients, an outline), which a handful of pixels do not have; fewer
+/// gave (0, 0, 1) without a word.
+constexpr int kMinLightPixels = 16;
+
 struct LightEstimate {
   Eigen::Vector3d light;  ///< unit vector toward the light, camera frame; slant <= kMaxEstimatedSlant
   double albedo = 0.0;    ///< > 0
@@ -77,7 +82,8 @@ struct LightEstimate {
 /// @param[in] ceiling the albedo, or std::nullopt for estimate_albedo's (top_fit); relief: the albedo,
 ///                    or std::nullopt for its brightest pixels', and the image is not clipped;
 ///                    contour: the albedo it uses and returns (top_fit's when std::nullopt).
-/// @throws InvalidArgument for bad input or an image dark everywhere in the mask.
+/// @throws InvalidArgument for bad input, a mask of fewer than kMinLightPixels pixels or an image
+///         dark everywhere in the mask.
 LightEstimate estimate_light(const ImageF& image, const Mask& mask, LightMethod method,
                              std::optional<double> ceiling = std::nullopt);
 
