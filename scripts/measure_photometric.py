@@ -8,8 +8,9 @@ alone (the mean over the set) and, for the materials, a flat normal map.
   calibrated lights; one photograph is graphcut with its light. Mean angular error in degrees over the
   mask eroded by 2 pixels, as every evaluation measures.
 - The scanned materials (DATA_FOLDER/materials): each measured normal map rendered Lambertian
-  (albedo x max(0, n . S), no cast shadow) under 4 and 8 lights at slant 40 degrees around the
-  viewer; one photograph is the relief reconstruction with its light. Mean over every pixel.
+  (albedo x max(0, n . S)) under 4 and 8 lights at slant 40 degrees around the viewer, without and
+  with cast shadows (materials.lambertian_photographs); one photograph is the relief reconstruction
+  with its light. Mean over every pixel.
 
 - The felt rug (DATA_FOLDER/multi_angle/felt_rug), with --rug-figure: its four real photographs,
   the lights named by their sides, drawn beside the normal map, the de-lit colour and the depth.
@@ -61,16 +62,24 @@ def diligent_row(folder: Path, label: str, images) -> str:
             f"{ours.stats.pair_pixels / loaded.mask.sum():.1%} | {seconds:.2f} |")
 
 
+def single_photograph_error(material: materials.Material, photographs: list, lights: np.ndarray) -> float:
+    return float(np.mean([shadecut.angular_error(shadecut.reconstruct(photo, light, scene="relief").normals,
+                                                 material.normals) for photo, light in zip(photographs, lights)]))
+
+
 def material_row(material: materials.Material, half: str, count: int) -> str:
     lights = materials.lights_around(count, MATERIAL_SLANT_DEGREES)
     photographs = materials.lambertian_photographs(material, lights)
     ours, seconds = timed(photographs, lights)
-    single = np.mean([shadecut.angular_error(shadecut.reconstruct(photo, light, scene="relief").normals,
-                                             material.normals) for photo, light in zip(photographs, lights)])
+    shadowed = materials.lambertian_photographs(material, lights, cast_shadows=True)
+    ours_shadowed = shadecut.reconstruct(shadowed, lights)
     flat = np.broadcast_to(np.array([0.0, 0.0, 1.0], np.float32), material.normals.shape)
     return (f"| {material.name} | {half} | {count} | {shadecut.angular_error(ours.normals, material.normals):.2f} | "
             f"{shadecut.angular_error(plain_least_squares(photographs, lights), material.normals):.2f} | "
-            f"{single:.2f} | {shadecut.angular_error(flat, material.normals):.2f} | "
+            f"{single_photograph_error(material, photographs, lights):.2f} | "
+            f"{shadecut.angular_error(ours_shadowed.normals, material.normals):.2f} | "
+            f"{single_photograph_error(material, shadowed, lights):.2f} | "
+            f"{shadecut.angular_error(flat, material.normals):.2f} | "
             f"{ours.stats.pair_pixels / material.height.size:.1%} | {seconds:.2f} |")
 
 
@@ -118,8 +127,9 @@ def main() -> int:
                 print(diligent_row(data / "diligent" / f"{name}PNG", label, images), flush=True)
     if not (data / "materials").is_dir():
         return 0
-    print("\n| material | half | photographs | ShadeCut | plain least squares | one photograph (mean) | flat | two lit | seconds |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("\n| material | half | photographs | ShadeCut | plain least squares | one photograph (mean) | "
+          "ShadeCut, cast shadows | one photograph, cast shadows | flat | two lit | seconds |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for half, names in (("training", materials.TRAINING), ("test", materials.TEST)):
         for name in names:
             material = materials.load_material(data / "materials" / name)

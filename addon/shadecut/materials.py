@@ -13,7 +13,9 @@ from typing import Sequence, Union
 import numpy as np
 
 from . import dataset_files
+from .api import integrate
 from .imaging import srgb_to_linear
+from .synthetic_reliefs import cast_shadows as shadow_mask
 
 TRAINING = ("Bark014", "Ground059", "Metal007", "PavingStones134", "WoodSiding005")
 TEST = ("Bricks061", "Fabric048", "Leather037", "PaintedPlaster009", "Rock029")
@@ -70,11 +72,17 @@ def lights_around(count: int, slant_degrees: float) -> np.ndarray:
                      np.full(count, np.cos(slant))], axis=1)
 
 
-def lambertian_photographs(material: Material, lights: Sequence[Sequence[float]]) -> list[np.ndarray]:
+def lambertian_photographs(material: Material, lights: Sequence[Sequence[float]],
+                           cast_shadows: bool = False) -> list[np.ndarray]:
     """(H, W, 3) float32 linear photographs of ``material`` under each distant light (K x 3, camera
-    frame, any length): albedo x max(n . l, 0), no cast shadow, no bounce."""
+    frame, any length): albedo x max(n . l, 0), no bounce. With ``cast_shadows``, black where the
+    surface shades itself: the surface is the normal map integrated (pixel units, so its slopes are
+    the measured ones), and a pixel is dark where its ray toward the light passes below it."""
+    depth = integrate(material.normals) if cast_shadows else None
     photographs = []
     for light in np.asarray(lights, dtype=np.float64):
         shading = np.clip(material.normals @ (light / np.linalg.norm(light)), 0.0, None)
+        if depth is not None:
+            shading[shadow_mask(depth, light)] = 0.0
         photographs.append((material.albedo * shading[..., None]).astype(np.float32))
     return photographs

@@ -65,6 +65,21 @@ def test_lambertian_photographs_are_albedo_times_the_clipped_cosine():
 
 
 @needs_materials
+def test_cast_shadows_darken_the_rock_where_the_integrated_surface_hides_the_light():
+    material = materials.load_material(MATERIALS / "Rock029")
+    light = materials.lights_around(1, 60.0)[0]
+    (plain,) = materials.lambertian_photographs(material, [light])
+    (shadowed,) = materials.lambertian_photographs(material, [light], cast_shadows=True)
+    darkened = (shadowed.sum(-1) == 0) & (plain.sum(-1) > 0)
+    assert 0.01 < darkened.mean() < 0.5
+    np.testing.assert_array_equal(shadowed[~darkened], plain[~darkened])
+    # Lit from the top, a pixel in cast shadow lies below the surface toward the top (a smaller row).
+    depth = shadecut.integrate(material.normals)
+    rows, cols = np.nonzero(darkened)
+    assert np.mean(depth[np.maximum(rows - 3, 0), cols] > depth[rows, cols]) > 0.8
+
+
+@needs_materials
 @pytest.mark.parametrize(
     "damage, message",
     [

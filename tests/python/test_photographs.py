@@ -139,6 +139,19 @@ def test_lambertian_photographs_of_a_scanned_material_give_its_normals_within_a_
     assert error.mean() < 1.0
 
 
+@pytest.mark.skipif(not MATERIALS.is_dir(), reason=f"the scanned materials are not in {MATERIALS}")
+@pytest.mark.parametrize("name", materials.TEST)
+def test_four_photographs_with_cast_shadows_halve_one_photographs_error(name):
+    """Issue 45: with cast shadows, at most half the single-photograph error of the same material."""
+    material = materials.load_material(MATERIALS / name)
+    lights = materials.lights_around(4, 40.0)
+    photographs = materials.lambertian_photographs(material, lights, cast_shadows=True)
+    several = shadecut.angular_error(shadecut.reconstruct(photographs, lights).normals, material.normals)
+    alone = np.mean([shadecut.angular_error(shadecut.reconstruct(photo, light, scene="relief").normals, material.normals)
+                     for photo, light in zip(photographs, lights)])
+    assert several <= 0.5 * alone, (several, alone)
+
+
 def diligent_error(name: str, images: list) -> tuple[float, float]:
     """Ours and plain least squares (every photograph, nothing left out) on DiLiGenT, calibrated lights."""
     folder = DILIGENT / f"{name}PNG"
