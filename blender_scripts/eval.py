@@ -317,6 +317,8 @@ def evaluate_and_report(args: argparse.Namespace, methods: tuple, dataset: Path 
         log("\nThe paper's experiment, Mozart, light (1, 0, 1):\n" + evaluation.method_table(run.paper["summary"]))
     for name, part in (run.real or {}).get("objects", {}).items():
         log(f"\nReal photographs, {name}:\n" + evaluation.real_table(part))
+        if part.get("photographs"):
+            log(f"\nSeveral photographs, {name}, calibrated lights:\n" + evaluation.photographs_table(part))
     failed = run.failed
     if failed:
         log(f"\n{len(failed)} evaluation(s) failed:")

@@ -31,17 +31,9 @@ import numpy as np
 
 import shadecut
 from shadecut import diligent, imaging, materials
+from shadecut.evaluation import PHOTOGRAPH_SETS, plain_least_squares, set_label
 
-DILIGENT_SETS = {"two (079, 031)": [79, 31], "four (085, 007, 037, 049)": [85, 7, 37, 49],
-                 "eight": [85, 79, 7, 31, 37, 25, 49, 73], "all 19": None}
 MATERIAL_SLANT_DEGREES = 40.0
-LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
-
-
-def plain_least_squares(photographs: list, lights: np.ndarray) -> np.ndarray:
-    grey = np.stack([photo @ LUMINANCE for photo in photographs], axis=-1)
-    scaled = grey @ np.linalg.pinv(lights).T
-    return scaled / np.maximum(np.linalg.norm(scaled, axis=-1, keepdims=True), 1e-12)
 
 
 def timed(photographs: list, lights: np.ndarray, mask=None) -> tuple[shadecut.Reconstruction, float]:
@@ -50,8 +42,9 @@ def timed(photographs: list, lights: np.ndarray, mask=None) -> tuple[shadecut.Re
     return result, time.perf_counter() - start
 
 
-def diligent_row(folder: Path, label: str, images) -> str:
+def diligent_row(folder: Path, set_name: str, images) -> str:
     loaded = diligent.load_object(folder, images=images)
+    label = set_label(set_name, images, len(loaded.photos))
     inner = shadecut.erode_mask(loaded.mask, 2)
     ours, seconds = timed(loaded.photos, loaded.lights, loaded.mask)
     single = np.mean([shadecut.angular_error(shadecut.reconstruct(photo, light, loaded.mask).normals, loaded.normals, inner)
@@ -123,8 +116,8 @@ def main() -> int:
     print("|---|---|---|---|---|---|---|")
     for name in ("ball", "cat", "reading"):
         if (data / "diligent" / f"{name}PNG").is_dir():
-            for label, images in DILIGENT_SETS.items():
-                print(diligent_row(data / "diligent" / f"{name}PNG", label, images), flush=True)
+            for set_name, images in PHOTOGRAPH_SETS.items():
+                print(diligent_row(data / "diligent" / f"{name}PNG", set_name, images), flush=True)
     if not (data / "materials").is_dir():
         return 0
     print("\n| material | half | photographs | ShadeCut | plain least squares | one photograph (mean) | "

@@ -22,6 +22,7 @@ from ..file_kinds import read_text
 from .figures import save_strip
 from .inputs import EvaluationError, read_manifest
 from .metrics import ERODE_PIXELS, normal_errors
+from .photographs import PHOTOGRAPH_SETS, evaluate_sets
 from .summary import aggregate, summarize
 from .runner import _progress_line, _record, evaluate_sample
 
@@ -128,7 +129,8 @@ def evaluate_object(dataset_dir: os.PathLike | str, methods: Sequence[str], *, o
     albedo is estimated in both cases (the samples record none). Returns the object's part of the
     real-photograph section: ``samples``, ``records`` (each with ``light``: "calibrated",
     "estimated", or None for the flat plane), ``summary`` (``flat``, and summarize() per light) and
-    ``figures`` (the strips of the first sample, one per light, under ``figures_dir``).
+    ``figures`` (the strips of the first sample, one per light, under ``figures_dir``) and
+    ``photographs`` (several photographs at once, calibrated lights: :func:`.photographs.evaluate_sets`).
     """
     dataset_dir = Path(dataset_dir)
     entries = read_manifest(dataset_dir)
@@ -166,7 +168,7 @@ def evaluate_object(dataset_dir: os.PathLike | str, methods: Sequence[str], *, o
     summary = {"flat": aggregate([r for r in records if r["method"] == FLAT])}
     summary.update({light: summarize([r for r in records if r["light"] == light]) for light in LIGHTS})
     return {"dataset": str(dataset_dir), "samples": samples, "records": records, "summary": summary,
-            "figures": [str(path) for path in figures]}
+            "figures": [str(path) for path in figures], "photographs": evaluate_sets(dataset_dir, summary, log)}
 
 
 def evaluate_real(objects: dict[str, Path], methods: Sequence[str], *, options: Optional[dict] = None,
@@ -179,6 +181,6 @@ def evaluate_real(objects: dict[str, Path], methods: Sequence[str], *, options: 
         parts[name] = evaluate_object(folder, methods, options=options, figures_dir=figures_dir, log=log)
     settings = {"source": "DiLiGenT", "citation": diligent.CITATION, "methods": list(methods),
                 "estimator": default_estimator(), "options": dict(options or {}), "albedo": "estimated",
-                "erode_pixels": ERODE_PIXELS,
+                "erode_pixels": ERODE_PIXELS, "photograph_sets": {k: v and list(v) for k, v in PHOTOGRAPH_SETS.items()},
                 "objects": {name: str(folder) for name, folder in objects.items()}}
     return {"settings": settings, "objects": parts}

@@ -18,6 +18,7 @@ from typing import Optional, Sequence
 
 from ..atomic_write import write_text
 from .metrics import METRICS
+from .photographs import LEAST_SQUARES, ONE, PHOTOGRAPH_SETS, SHADECUT, set_label
 
 from .runner import Evaluation
 
@@ -76,6 +77,29 @@ def real_table(part: dict) -> str:
     return "\n".join(lines)
 
 
+def photographs_table(part: dict) -> str:
+    """One object's several-photograph table (Markdown): per set, the mean angular error of ShadeCut
+    and of plain least squares over the same photographs, and ShadeCut's share of two-lit pixels."""
+    lines = ["| photographs | ShadeCut mean ° | plain least squares mean ° | two lit |", "|---|---|---|---|"]
+    records = part.get("photographs", [])
+
+    def cell(set_name: str, method: str) -> str:
+        found = [r for r in records if r["set"] == set_name and r["method"] == method]
+        if not found:
+            return "—"
+        return _cell(found[0]["mean_deg"]) if found[0]["status"] == "ok" else "failed"
+
+    for set_name in dict.fromkeys(r["set"] for r in records):
+        first = next(r for r in records if r["set"] == set_name)
+        label = ("one (each alone, graphcut, mean)" if set_name == ONE
+                 else set_label(set_name, PHOTOGRAPH_SETS.get(set_name), first["count"]))
+        ours = next((r for r in records if r["set"] == set_name and r["method"] == SHADECUT), {})
+        share = ours.get("two_lit_share")
+        two_lit = "—" if share is None else f"{100 * share:.1f}%"
+        lines.append(f"| {label} | {cell(set_name, SHADECUT)} | {cell(set_name, LEAST_SQUARES)} | {two_lit} |")
+    return "\n".join(lines)
+
+
 def _real_lines(real: dict, out_dir: Path) -> list[str]:
     settings = real["settings"]
     lines = ["## Real photographs", "",
@@ -87,6 +111,10 @@ def _real_lines(real: dict, out_dir: Path) -> list[str]:
     for name, part in real["objects"].items():
         photographs = len({r["sample"] for r in part["records"]})
         lines += [f"### {name} ({photographs} photographs)", "", real_table(part), ""]
+        if part.get("photographs"):
+            lines += ["Several photographs at once, calibrated lights: ShadeCut beside plain least squares "
+                      "over the same photographs (\"two lit\": the share of the mask where exactly two "
+                      "photographs were usable and the graph cut chose).", "", photographs_table(part), ""]
         for figure in part["figures"]:
             relative = Path(os.path.relpath(figure, out_dir)).as_posix()
             lines += [f"![{Path(figure).stem}]({relative})", ""]
