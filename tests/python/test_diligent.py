@@ -46,7 +46,8 @@ def write_fixture(folder: Path, width: int = 8, height: int = 6, seed: int = 0) 
     codes = {}
     for index, name in enumerate(NAMES):
         light = LIGHTS[index] / np.linalg.norm(LIGHTS[index])
-        shading = np.clip(normals @ light, 0, None)[..., None] * 0.7 * INTENSITIES[index] / INTENSITIES[index].max()
+        # One albedo for every photograph, each channel scaled by its light's intensity, as in the benchmark.
+        shading = np.clip(normals @ light, 0, None)[..., None] * 0.7 * INTENSITIES[index] / INTENSITIES.max()
         values = np.clip(shading * 65535 + rng.integers(0, 400, (height, width, 3)), 0, 65535)
         codes[name] = values.astype(np.uint16)
         if name in PRESENT:
@@ -228,6 +229,52 @@ def test_the_evaluation_measures_the_flat_plane_and_both_lights(tmp_path):
     table = evaluation.real_table(part)
     assert "| any | **flat plane** |" in table and "| calibrated | lee_rosenfeld |" in table
     assert "| estimated | lee_rosenfeld |" in table
+
+
+def test_several_photographs_at_once_beside_plain_least_squares(tmp_path):
+    """The sets of evaluation.PHOTOGRAPH_SETS whose photographs are present (here only "all": three
+    photographs), after the set "one" taken from the single-photograph records."""
+    source = tmp_path / "spherePNG"
+    write_fixture(source, width=40, height=32)
+    imported = evaluation.import_objects([source], tmp_path / "out", log=lambda line: None)
+    lines = []
+    part = evaluation.evaluate_real(imported, ("graphcut",), log=lines.append)["objects"]["sphere"]
+    records = part["photographs"]
+    assert [(r["set"], r["count"], r["method"]) for r in records] == [
+        ("one", 1, "ShadeCut"), ("all", 3, "ShadeCut"), ("all", 3, "plain least squares")]
+    assert all(r["status"] == "ok" for r in records)
+    assert records[0]["mean_deg"] == part["summary"]["calibrated"]["methods"]["graphcut"]["mean_deg"]  # reused
+    assert records[1]["images"] == list(PRESENT) and 0 <= records[1]["two_lit_share"] <= 1
+    for name in ("two", "four", "eight"):
+        assert any(f"the set {name} skipped" in line and "not present" in line for line in lines), name
+    # Three photographs of a clean Lambertian sphere fix its normals: both far below the flat plane.
+    for record in records[1:]:
+        assert record["mean_deg"] < 0.3 * part["summary"]["flat"]["mean_deg"], record
+        assert record["median_deg"] <= record["mean_deg"] + 5 and record["seconds"] >= 0
+    table = evaluation.photographs_table(part)
+    assert "| one (each alone, graphcut, mean) |" in table and "| all 3 |" in table
+
+
+def test_plain_least_squares_inverts_lambertian_shading():
+    rng = np.random.default_rng(1)
+    normals = rng.normal(size=(6, 5, 3)) + [0, 0, 4]
+    normals /= np.linalg.norm(normals, axis=-1, keepdims=True)
+    lights = LIGHTS / np.linalg.norm(LIGHTS, axis=-1, keepdims=True)
+    photographs = [0.6 * np.clip(normals @ light, 0, None) for light in lights]
+    assert all((p > 0).all() for p in photographs)  # every pixel lit: the least squares are exact
+    np.testing.assert_allclose(evaluation.plain_least_squares(photographs, lights), normals, atol=1e-9)
+    colour = [np.repeat(p[..., None], 3, axis=-1) for p in photographs]  # grey RGB: its luminance
+    np.testing.assert_allclose(evaluation.plain_least_squares(colour, lights), normals, atol=1e-9)
+
+
+def test_several_photographs_whose_source_is_gone_are_left_out_with_a_line(tmp_path):
+    source = tmp_path / "spherePNG"
+    write_fixture(source)
+    imported = evaluation.import_objects([source], tmp_path / "out", log=lambda line: None)
+    (source / "mask.png").unlink()
+    lines = []
+    assert evaluation.evaluate_sets(imported["sphere"], {}, log=lines.append) == []
+    assert "cannot read the source object" in lines[0] and "mask.png" in lines[0]
 
 
 @pytest.mark.skipif(not (DILIGENT / "ballPNG").is_dir(),

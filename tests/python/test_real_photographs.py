@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import shadecut
-from shadecut import dataset, diligent
+from shadecut import dataset, diligent, evaluation
 
 DILIGENT = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "diligent"
 
@@ -161,3 +161,35 @@ def test_even_the_true_shape_does_not_read_the_cats_light_within_six_degrees(tmp
         f"{name} {np.median(e):.1f} ({e.max():.1f})" for name, e in off.items()))
     assert off["ballPNG"].max() <= 2.0  # the fit itself reads a Lambertian photograph's light
     assert off["catPNG"].min() > 6.0
+
+
+# Issue 45: several photographs at once, as blender_scripts/eval.py --diligent measures them. The
+# dataset holds the four photographs lit from around, so the set "one" is the mean of graphcut on
+# each of the same four alone (docs/results.md, "Several photographs").
+
+@pytest.mark.parametrize("name", ["ballPNG", "catPNG", "readingPNG"])
+def test_four_photographs_beat_plain_least_squares_and_one_photograph(name, tmp_path):
+    source = DILIGENT / name
+    if not source.is_dir():
+        pytest.skip(f"DiLiGenT is not at {DILIGENT} (expects {name}/ there in the benchmark's layout)")
+    folder = tmp_path / "dataset"
+    dataset.import_diligent(source, folder, images=evaluation.PHOTOGRAPH_SETS["four"])
+    real = evaluation.evaluate_real({name[:-3]: folder}, ("graphcut",), log=lambda line: None)
+    records = real["objects"][name[:-3]]["photographs"]
+    assert [(r["set"], r["method"]) for r in records] == [("one", "ShadeCut")] + [
+        (s, m) for s in ("two", "four", "eight", "all") for m in ("ShadeCut", "plain least squares")]
+    assert all(r["status"] == "ok" for r in records)
+    error = {(r["set"], r["method"]): r["mean_deg"] for r in records}
+    print(f"{name}, four photographs: ShadeCut {error['four', 'ShadeCut']:.2f}, plain least squares "
+          f"{error['four', 'plain least squares']:.2f}, one photograph (mean of the four) {error['one', 'ShadeCut']:.2f}")
+    assert error["four", "ShadeCut"] < error["four", "plain least squares"]
+    assert error["four", "ShadeCut"] < error["one", "ShadeCut"]
+    assert [r["count"] for r in records if r["set"] == "all"] == [19, 19]
+
+    run = evaluation.Evaluation({"dataset": None, "methods": ["graphcut"], "light_method": None, "options": {},
+                                 "erode_pixels": evaluation.ERODE_PIXELS}, [], [])
+    run.real = real
+    report = Path(evaluation.write_results(tmp_path, run)["report"]).read_text()
+    row = next(line for line in report.splitlines() if line.startswith("| four (085, 007, 037, 049) |"))
+    assert f"| {error['four', 'ShadeCut']:.2f} | {error['four', 'plain least squares']:.2f} |" in row
+    assert "| one (each alone, graphcut, mean) |" in report and "| all 19 |" in report

@@ -82,13 +82,14 @@ def _set_records(set_name: str, chosen: list, loaded: diligent.DiligentObject) -
             _scored(set_name, len(chosen), LEAST_SQUARES, names, baseline, loaded)]
 
 
-def one_photograph_record(summary: dict, count: int) -> Optional[dict]:
+def one_photograph_record(summary: dict) -> Optional[dict]:
     """The set "one": the mean of graphcut's single-photograph records under the calibrated light
     (``summary`` is the object's summary), or None when graphcut was not evaluated."""
     graphcut = summary["calibrated"]["methods"].get("graphcut")
     if graphcut is None or graphcut["mean_deg"] is None:
         return None
-    record = {"set": ONE, "count": 1, "method": SHADECUT, "images": f"each of {count} alone (graphcut, mean)",
+    record = {"set": ONE, "count": 1, "method": SHADECUT,
+              "images": f"each of the {graphcut['samples']} photographs alone (graphcut, mean)",
               "status": "ok"}
     record.update({name: graphcut[name] for name in _SHARED_METRICS})
     return record
@@ -103,7 +104,7 @@ def evaluate_sets(dataset_dir: Path, summary: dict, log: Callable[[str], None] =
     except (OSError, ValueError, KeyError, IndexError, EvaluationError) as error:
         log(f"several photographs of {dataset_dir.name}: cannot read the source object: {error}")
         return records
-    one = one_photograph_record(summary, len(loaded.names))
+    one = one_photograph_record(summary)
     records += [one] if one else []
     numbers = [int(Path(name).stem) if Path(name).stem.isdigit() else None for name in loaded.names]
     for set_name, images in PHOTOGRAPH_SETS.items():
