@@ -36,9 +36,8 @@ def test_the_readme_example_runs_on_a_grey_and_a_colour_photograph(tmp_path, col
 def test_the_readme_several_photographs_example_runs(tmp_path):
     code = re.search(r"### Several photographs\n.*?```python\n(.*?)```", (REPO / "README.md").read_text(), re.S).group(1)
     scene = synthetic.bumps((0.0, 0.0, 1.0), size=48)
-    lights = re.search(r"lights = (\[.*?\])", code).group(1)
-    for side, light in zip(("top", "left", "bottom", "right"), eval(lights)):
-        shadecut.save_image(tmp_path / f"{side}.png", shadecut.render(scene.normals, light, 0.8))
+    for side in eval(re.search(r"sides = (\[.*?\])", code).group(1)):
+        shadecut.save_image(tmp_path / f"{side}.png", shadecut.render(scene.normals, shadecut.light_from_side(side), 0.8))
     run = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=600,
                          env={"PYTHONPATH": str(REPO / "addon"), "PATH": "/usr/bin:/bin"})
     assert run.returncode == 0, run.stderr[-2000:]
