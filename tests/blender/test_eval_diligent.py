@@ -62,6 +62,12 @@ def test_the_real_photograph_section_is_written(real_run):
     assert flat["samples"] == 3 and flat["mean_deg"] > 10
     # On a clean Lambertian sphere with its calibrated light, the graph cut beats the flat plane.
     assert part["summary"]["calibrated"]["methods"]["graphcut"]["mean_deg"] < flat["mean_deg"]
+    # Several photographs at once: only "all" (three photographs) is present in the fixture.
+    assert [(r["set"], r["count"], r["method"]) for r in part["photographs"]] == [
+        ("one", 1, "ShadeCut"), ("all", 3, "ShadeCut"), ("all", 3, "plain least squares")]
+    assert "several photographs of sphere: the set four skipped (085, 007, 037, 049 not present)" in completed.stdout
+    assert "Several photographs, sphere, calibrated lights:" in completed.stdout
+    assert "| one (each alone, graphcut, mean) |" in report and "| all 3 |" in report
     with open(out / "results.csv") as stream:
         rows = list(csv.DictReader(stream))
     assert {(row["method"], row["light"]) for row in rows} == {
