@@ -181,7 +181,8 @@ def test_four_photographs_beat_plain_least_squares_and_one_photograph(name, tmp_
     assert all(r["status"] == "ok" for r in records)
     error = {(r["set"], r["method"]): r["mean_deg"] for r in records}
     print(f"{name}, four photographs: ShadeCut {error['four', 'ShadeCut']:.2f}, plain least squares "
-          f"{error['four', 'plain least squares']:.2f}, one photograph (mean of the four) {error['one', 'ShadeCut']:.2f}")
+          f"{error['four', 'plain least squares']:.2f}, one photograph (mean of the four) "
+          f"{error['one', 'ShadeCut']:.2f}")
     assert error["four", "ShadeCut"] < error["four", "plain least squares"]
     assert error["four", "ShadeCut"] < error["one", "ShadeCut"]
     assert [r["count"] for r in records if r["set"] == "all"] == [19, 19]

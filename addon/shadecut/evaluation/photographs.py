@@ -116,7 +116,7 @@ def evaluate_sets(dataset_dir: Path, summary: dict, log: Callable[[str], None] =
         chosen = list(range(len(numbers))) if images is None else [numbers.index(n) for n in images]
         pair = _set_records(set_name, chosen, loaded)
         records += pair
+        outcomes = [f"{r['mean_deg']:.2f}°" if r["status"] == "ok" else f"failed: {r['error']}" for r in pair]
         log(f"several photographs of {dataset_dir.name}, {set_label(set_name, images, len(chosen))}: "
-            + "; ".join(f"{r['method']} " + (f"{r['mean_deg']:.2f}°" if r["status"] == "ok" else f"failed: {r['error']}")
-                        for r in pair))
+            + "; ".join(f"{r['method']} {outcome}" for r, outcome in zip(pair, outcomes)))
     return records
