@@ -15,6 +15,10 @@ from typing import Optional, Sequence
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 
+# The oldest glibc a Linux zip's _core loads on, whichever Debian built it (Ubuntu 22.04's; the
+# symbols it pins: native/python/glibc_compat.cpp, docs/portable_addon.md).
+OLDEST_GLIBC = (2, 35)
+
 _PLATFORM_NAMES = (("linux", "Linux"), ("darwin", "macOS"), ("win", "Windows"))
 
 

@@ -68,6 +68,20 @@ def run_blender(args, user: Path):
     return result.stdout + result.stderr
 
 
+def test_the_zips_module_loads_on_the_oldest_glibc_we_name(addon_zip, tmp_path):
+    """Built in any Debian (trixie's and sid's glibc 2.41 and 2.43 too), _core asks for no glibc
+    symbol version newer than compatibility.OLDEST_GLIBC: every Blender this zip is for loads it."""
+    import re
+    import zipfile
+
+    with zipfile.ZipFile(addon_zip) as archive:
+        (core,) = [name for name in archive.namelist() if re.search(r"/_core\.[^/]*\.so$", name)]
+        archive.extract(core, tmp_path)
+    symbols = subprocess.run(["objdump", "-T", str(tmp_path / core)], capture_output=True, text=True, check=True).stdout
+    versions = {tuple(int(part) for part in found.split(".")) for found in re.findall(r"\bGLIBC_([0-9.]+)\)", symbols)}
+    assert versions and max(versions) <= compatibility.OLDEST_GLIBC, sorted(versions)[-3:]
+
+
 def install(addon_zip: Path, user: Path) -> Path:
     run_blender(["--factory-startup", "--python-expr", INSTALL, "--", str(addon_zip)], user)
     installed = user / "scripts" / "addons" / "shadecut"
