@@ -114,15 +114,6 @@ def test_upwind_the_viscosity_baseline():
     assert errors["bumps"]["upwind"] < 0.25 * min(flat_plane_error(scenes["bumps"]), errors["bumps"]["paper's energy"])
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "measured: the sweeps sink where the image reaches the albedo (a pixel at I = albedo admits one slope "
-    "only): this sphere (101 pixels above albedo 0.99) comes back 69.7 deg off after upwind's 3 rounds and "
-    "77.6 after 100; with the shade capped just below 1 (1 - 1e-6) it settles in 3 rounds at 5.2 deg. "
-    "The viscosity pull's reference runs the same sweeps, so photographs with highlights spend most of the "
-    "default call there (DiLiGenT, 19 photographs: ball 5.3 of 6.7 s, reading 15.6 of 18.9 s), and the upwind "
-    "method's own DiLiGenT figures are the defect's (ball 38.3 deg with the calibrated light, 12.6 with the cap). The cap "
-    "alone makes DiLiGenT worse with the pull (ball 5.33 -> 6.73 deg, reading with retinex 38.74 -> 45.15) "
-    "and the painted set better (15.39 -> 13.73): the pull needs a rule for highlights first"))
 def test_upwind_settles_where_the_image_reaches_the_albedo():
     scene = synthetic.sphere((0.4, 0.3, 1.0), 96, radius_fraction=0.45)
     assert (scene.image[scene.mask] > 0.99).sum() > 100

@@ -124,14 +124,16 @@ double update(const Hamiltonian& h, const Neighbours& n, double current) {
 }  // namespace
 
 UpwindResult upwind(const ImageF& image, const Mask& mask, const LightFrame& light, double albedo, int iterations,
-                    const Progress& progress) {
+                    const Progress& progress, double brightest_shade) {
   check_iterative_input(image, mask, albedo, iterations);
+  if (!(brightest_shade > kDarkest && brightest_shade <= 1.0))
+    throw InvalidArgument("shadecut: upwind's brightest shade must be above 0.001 and at most 1");
 
   const int rows = int(image.rows()), cols = int(image.cols());
   const double sx = light.direction.x(), sy = light.direction.y(), sz = light.direction.z();
   Eigen::ArrayXXd depth = mask.select(Eigen::ArrayXXd::Constant(rows, cols, kUnreached), 0.0);
   auto inside = [&](int r, int c) { return r >= 0 && r < rows && c >= 0 && c < cols && mask(r, c); };
-  const Eigen::ArrayXXd shade = (image.cast<double>() / albedo).min(1.0);
+  const Eigen::ArrayXXd shade = (image.cast<double>() / albedo).min(brightest_shade);
   // The edge pixels hold z = 0: the silhouette passes through them, and a first step from outside
   // with the rim's near-infinite slope would lift the whole object unevenly.
   Mask solved = mask;

@@ -24,6 +24,12 @@ namespace shadecut {
 
 namespace {
 
+// The brightest shade of the pull's viscosity solution: the image's own, unclamped below 1. Clamped
+// like the upwind method's (kUpwindBrightestShade), the solution settles where the image reaches the
+// albedo, and the pulled labellings read DiLiGenT worse (docs/method.md, "The viscosity pull"): the
+// pull was tuned with, and relies on, the bulge the unsettled sweeps raise there.
+constexpr double kPullBrightestShade = 1.0;
+
 // Share of a level's progress range spent on the levels below it (they have a quarter of its pixels
 // each, and every label open to them).
 constexpr double kCoarseShare = 0.25;
@@ -394,7 +400,7 @@ void solve_level(const ImageF& image, const Mask& mask, const LightFrame& light,
     lineages.push_back(solve_lineage(level, nullptr, nullptr, 0.0, 0.5));
     progress.report(0.5, "upwind");
     stage.restart();
-    const NormalMap reference = normals_from_depth(upwind(image, mask, light, albedo, params.viscosity_rounds).depth, mask);
+    const NormalMap reference = normals_from_depth(upwind(image, mask, light, albedo, params.viscosity_rounds, {}, kPullBrightestShade).depth, mask);
     seconds["upwind"] += stage.seconds();
     lineages.push_back(solve_lineage(level, nullptr, &reference, 0.5, 1.0));
     // The coarsest level's residuals can be within its coarse discretization's own error: a pulled
