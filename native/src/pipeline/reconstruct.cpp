@@ -5,6 +5,7 @@
 #include <shadecut/pipeline/cut_out.hpp>
 #include <shadecut/support/errors.hpp>
 
+#include "pipeline/crop.hpp"
 #include "pipeline/option_checks.hpp"
 #include "pipeline/paint.hpp"
 #include "pipeline/photographs.hpp"
@@ -14,16 +15,31 @@ namespace shadecut {
 
 namespace {
 
-Reconstruction reconstruct_cut_out(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
-                                   std::optional<double> albedo, const ReconstructOptions& options) {
+// One photograph, or several, within the mask; an object in its window when that saves the frame (a
+// relief's steps read the whole frame: its detail size, its large forms).
+Reconstruction reconstruct_masked(const std::vector<Observation>& observations, const Mask& mask, std::optional<double> albedo,
+                                  const ReconstructOptions& options) {
+  auto solve = [&](const std::vector<Observation>& inside, const Mask& inside_mask) {
+    if (inside.size() > 1) return detail::reconstruct_photographs(inside, &inside_mask, albedo, options);
+    const ColourImage* colour = inside.front().has_colour() ? &inside.front().colour : nullptr;
+    return detail::reconstruct_painted(inside.front().image, colour, inside.front().light, &inside_mask, albedo, options);
+  };
+  if (options.scene != SceneKind::Object) return solve(observations, mask);
+  return detail::solve_in_object_window(observations, mask, solve);
+}
+
+Reconstruction reconstruct_cut_out(const Observation& photograph, std::optional<double> albedo, const ReconstructOptions& options) {
+  const ImageF& image = photograph.image;
+  const ColourImage* colour = photograph.has_colour() ? &photograph.colour : nullptr;
   // The options and the memory first: a call refused for its size is refused at once, not after the cut.
   detail::check_options(options, Mask::Constant(image.rows(), image.cols(), true));
   const Stopwatch stopwatch;
   // The cut-out reports as the call's start, so that a cancel reaches it too.
   const CutOut cut = cut_out(image, colour, CutOutOptions{}, Progress(options.progress).range(0.0, 0.0));
   const double seconds = stopwatch.seconds();
-  Reconstruction result = detail::reconstruct_painted(image, colour, light, cut.outcome == CutOutOutcome::Found ? &cut.mask : nullptr,
-                                                      albedo, options);
+  Reconstruction result = cut.outcome == CutOutOutcome::Found
+                              ? reconstruct_masked({photograph}, cut.mask, albedo, options)
+                              : detail::reconstruct_painted(image, colour, photograph.light, nullptr, albedo, options);
   result.stats.cut_out = cut.outcome;
   result.stats.cut_out_contrast = cut.outline_contrast;
   result.stats.cut_out_message = cut.message;
@@ -32,13 +48,10 @@ Reconstruction reconstruct_cut_out(const ImageF& image, const ColourImage* colou
   return result;
 }
 
-Reconstruction reconstruct_one(const Observation& photograph, const Mask* mask, std::optional<double> albedo,
-                               const ReconstructOptions& options) {
-  check_option_ranges(options);
+Reconstruction reconstruct_one(const Observation& photograph, std::optional<double> albedo, const ReconstructOptions& options) {
+  if (options.scene == SceneKind::Object && options.cut_out) return reconstruct_cut_out(photograph, albedo, options);
   const ColourImage* colour = photograph.has_colour() ? &photograph.colour : nullptr;
-  if (mask || options.scene != SceneKind::Object || !options.cut_out)
-    return detail::reconstruct_painted(photograph.image, colour, photograph.light, mask, albedo, options);
-  return reconstruct_cut_out(photograph.image, colour, photograph.light, albedo, options);
+  return detail::reconstruct_painted(photograph.image, colour, photograph.light, nullptr, albedo, options);
 }
 
 }  // namespace
@@ -47,8 +60,9 @@ Reconstruction reconstruct(const std::vector<Observation>& observations, const M
                            const ReconstructOptions& options) {
   if (observations.empty()) throw InvalidArgument("shadecut: no photograph given");
   check_option_ranges(options);
-  if (observations.size() > 1) return detail::reconstruct_photographs(observations, mask, albedo, options);
-  return reconstruct_one(observations.front(), mask, albedo, options);
+  if (mask) return reconstruct_masked(observations, *mask, albedo, options);
+  if (observations.size() > 1) return detail::reconstruct_photographs(observations, nullptr, albedo, options);
+  return reconstruct_one(observations.front(), albedo, options);
 }
 
 Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,

@@ -25,6 +25,30 @@ TEST(Reconstruct, GraphCutRecoversSphereAndBowl) {
   }
 }
 
+// An object small in a large frame is reconstructed in a window around its mask and put back: the
+// same surface as the object alone, nothing outside the mask.
+TEST(Reconstruct, AnObjectInALargeFrameIsTheObjectAlone) {
+  const Eigen::Vector3d light(0.4, 0.7, 1);
+  const testing::Scene scene = testing::sphere_scene(96, 0.45, light);
+  const int top = 301, left = 517, size = 900;
+  ImageF image = ImageF::Zero(size, size);
+  Mask mask = Mask::Constant(size, size, false);
+  image.block(top, left, 96, 96) = scene.image;
+  mask.block(top, left, 96, 96) = scene.mask;
+  const Reconstruction alone = reconstruct(scene.image, light, &scene.mask, 1.0, ReconstructOptions{});
+  const Reconstruction framed = reconstruct(image, light, &mask, 1.0, ReconstructOptions{});
+  ASSERT_EQ(framed.depth.rows(), size);
+  EXPECT_TRUE((framed.mask == mask).all());
+  EXPECT_LT((framed.depth.block(top, left, 96, 96) - alone.depth).abs().maxCoeff(), 1e-3f);
+  EXPECT_TRUE((mask.select(0.0f, framed.depth) == 0.0f).all());
+  for (int r = 0; r < 96; ++r)
+    for (int c = 0; c < 96; ++c)
+      EXPECT_LT((framed.normals.xyz.row(Eigen::Index(top + r) * size + left + c) - alone.normals.xyz.row(Eigen::Index(r) * 96 + c))
+                    .cwiseAbs()
+                    .maxCoeff(),
+                1e-5f);
+}
+
 // Every parallel loop writes its own pixels and every sum is taken in a fixed order, so the thread
 // count changes no bit of the result, for each method.
 TEST(Reconstruct, OneThreadAndTwoGiveTheSameBits) {
