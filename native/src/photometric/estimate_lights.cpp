@@ -32,8 +32,7 @@ void check_inputs(const std::vector<ImageF>& images, const Mask& mask, const Lig
     throw InvalidArgument("shadecut: without the hint that the lights share one slant the bas-relief ambiguity stays open; give the lights");
   for (std::size_t k = 0; k < images.size(); ++k) {
     check_image(images[k], photograph_name(k));
-    if (images[k].rows() != images[0].rows() || images[k].cols() != images[0].cols())
-      throw InvalidArgument("shadecut: " + photograph_name(k) + " does not have the first photograph's size");
+    check_same_size(images[k], k, images[0]);
   }
   check_mask(mask, images[0]);
 }

@@ -60,11 +60,7 @@ void check_inputs(const std::vector<ImageF>& images, const LightDirections& ligh
                           std::to_string(images.size()) + " photographs; give one light per photograph");
   for (std::size_t k = 0; k < images.size(); ++k) {
     check_image(images[k], photograph_name(k));
-    if (images[k].rows() != images[0].rows() || images[k].cols() != images[0].cols())
-      throw InvalidArgument("shadecut: " + photograph_name(k) + " is " + std::to_string(images[k].cols()) + " x " +
-                            std::to_string(images[k].rows()) + " pixels but the first is " +
-                            std::to_string(images[0].cols()) + " x " + std::to_string(images[0].rows()) +
-                            "; all photographs must have one size");
+    check_same_size(images[k], k, images[0]);
   }
   check_mask(mask, images[0]);
   if (!clipped.empty() && clipped.size() != images.size())

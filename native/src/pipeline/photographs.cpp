@@ -30,11 +30,7 @@ void check_photographs(const std::vector<Observation>& photographs, const Mask* 
   for (std::size_t k = 0; k < photographs.size(); ++k) {
     const Observation& photograph = photographs[k];
     check_image(photograph.image);
-    if (photograph.image.rows() != first.image.rows() || photograph.image.cols() != first.image.cols())
-      throw InvalidArgument("shadecut: " + photograph_name(k) + " is " + std::to_string(photograph.image.cols()) +
-                            " x " + std::to_string(photograph.image.rows()) + " pixels but the first is " +
-                            std::to_string(first.image.cols()) + " x " + std::to_string(first.image.rows()) +
-                            "; several photographs must be of one view, all of one size");
+    check_same_size(photograph.image, k, first.image);
     if (photograph.has_colour() != first.has_colour())
       throw InvalidArgument("shadecut: " + photograph_name(k) + " is " + (photograph.has_colour() ? "colour" : "grey") +
                             " but the first is not; give all in colour or all grey");

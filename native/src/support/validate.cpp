@@ -66,6 +66,14 @@ std::string number_text(double value) {
 
 std::string photograph_name(std::size_t index) { return "photograph " + std::to_string(index + 1); }
 
+void check_same_size(const ImageF& photograph, std::size_t index, const ImageF& first) {
+  if (photograph.rows() != first.rows() || photograph.cols() != first.cols())
+    throw InvalidArgument("shadecut: " + photograph_name(index) + " is " + std::to_string(photograph.cols()) +
+                          " x " + std::to_string(photograph.rows()) + " pixels but the first is " +
+                          std::to_string(first.cols()) + " x " + std::to_string(first.rows()) +
+                          "; several photographs must be of one view, all of one size");
+}
+
 void check_albedo(double albedo) {
   if (!(albedo > 0.0) || !std::isfinite(albedo))
     throw InvalidArgument("shadecut: the albedo must be finite and > 0; got " + number_text(albedo));

@@ -221,7 +221,13 @@ TEST(PhotometricStereo, RefusesBadInput) {
   const auto images = photographs(scene, lights, ImageF::Constant(32, 32, 1.0f));
   auto other_size = images;
   other_size[2] = ImageF::Zero(32, 31);
-  EXPECT_THROW(photometric_stereo(other_size, lights, scene.mask), InvalidArgument);
+  try {
+    photometric_stereo(other_size, lights, scene.mask);
+    ADD_FAILURE() << "photographs of two sizes accepted";
+  } catch (const InvalidArgument& error) {  // counted from 1, width x height, as the user gave them
+    EXPECT_NE(std::string(error.what()).find("photograph 3 is 31 x 32 pixels but the first is 32 x 32"),
+              std::string::npos) << error.what();
+  }
   EXPECT_THROW(photometric_stereo({images[0], images[1]}, lights, scene.mask), InvalidArgument);
   EXPECT_THROW(photometric_stereo({images[0]}, lights.topRows(1), scene.mask), InvalidArgument);
   LightDirections same = lights;

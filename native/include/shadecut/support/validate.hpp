@@ -29,6 +29,10 @@ std::string number_text(double value);
 /// 1 as a user counts the images they gave.
 std::string photograph_name(std::size_t index);
 
+/// Throws InvalidArgument unless `photograph`, at `index` of a list of photographs of one view, has the
+/// size of the list's `first`; the message names it as photograph_name does.
+void check_same_size(const ImageF& photograph, std::size_t index, const ImageF& first);
+
 /// Throws InvalidArgument unless the albedo is finite and > 0.
 void check_albedo(double albedo);
 
