@@ -85,19 +85,15 @@ NormalMap photographs_normals(const std::vector<Observation>& photographs, const
   stats.single_pixels = fitted.single_pixels;
   stats.dark_pixels = fitted.dark_pixels;
   fill = mask && (fitted.usable < 2);
-  NormalMap normals;
-  if (fitted.pair_pixels == 0) {
-    normals = std::move(fitted.normals);  // no pixel has two candidates: the fits are the choice
-  } else {
-    stage.restart();
-    CandidateCutParams cut_params;
-    cut_params.smoothness = options.candidate_smoothness;
-    CandidateCutResult chosen = choose_candidates(photometric_candidates(fitted), cut_params, progress.range(kFitShare, kCutShare));
-    stats.seconds["candidate cut"] = stage.seconds();
-    stats.cycles = chosen.cycles;
-    stats.accepted_moves = chosen.accepted_moves;
-    normals = std::move(chosen.normals);
-  }
+  stage.restart();
+  CandidateCutParams cut_params;
+  cut_params.smoothness = options.candidate_smoothness;
+  CandidateCutResult chosen =
+      choose_candidates(photometric_candidates(std::move(fitted)), cut_params, progress.range(kFitShare, kCutShare));
+  stats.seconds["candidate cut"] = stage.seconds();
+  stats.cycles = chosen.cycles;
+  stats.accepted_moves = chosen.accepted_moves;
+  NormalMap normals = std::move(chosen.normals);
   // A pixel to fill needs a normal to start from: facing the viewer.
   for (Eigen::Index i = 0; i < fill.size(); ++i)
     if (fill.data()[i]) normals.xyz.row(i) << 0.0f, 0.0f, 1.0f;

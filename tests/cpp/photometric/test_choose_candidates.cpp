@@ -102,6 +102,27 @@ TEST(ChooseCandidates, ThreeCandidatesAndTheirCosts) {
   EXPECT_NEAR(cut.energy, 0.9, 1e-5);
 }
 
+TEST(ChooseCandidates, WithNothingToChooseEachPixelKeepsItsOneCandidate) {
+  // Eight lights around a sphere: three or more light every pixel, so each has one candidate (its fit).
+  const auto scene = testing::sphere_scene(64, 0.45, {0, 0, 1});
+  const LightDirections lights = lights_around(8, 30.0, 90.0, 45.0);
+  const auto ps = photometric_stereo(photographs(scene, lights, ImageF::Constant(64, 64, 0.6f)), lights, scene.mask);
+  ASSERT_EQ(ps.pair_pixels, 0);
+  const NormalCandidates candidates = photometric_candidates(ps);
+  ASSERT_TRUE(candidates.data_cost.empty());
+  NormalCandidates outside_is_not_zero = candidates;  // a pixel without candidates comes out (0, 0, 0)
+  outside_is_not_zero.normals[0].xyz.row(0) << 0.0f, 0.0f, 1.0f;
+  ASSERT_EQ(outside_is_not_zero.count.data()[0], 0);
+  const CandidateCutResult cut = choose_candidates(outside_is_not_zero);
+  for (Eigen::Index p = 0; p < scene.normals.size(); ++p) {
+    EXPECT_EQ(cut.choice.data()[p], ps.usable.data()[p] >= 3 ? 0 : -1);
+    EXPECT_EQ(cut.normals.xyz.row(p), ps.normals.xyz.row(p));
+  }
+  EXPECT_EQ(cut.cycles, 0);
+  EXPECT_EQ(cut.energy, 0.0);
+  EXPECT_EQ(cut.initial_energy, 0.0);
+}
+
 TEST(ChooseCandidates, RefusesBadInput) {
   NormalCandidates candidates;
   candidates.normals.assign(2, NormalMap(4, 4));

@@ -28,8 +28,9 @@ struct NormalCandidates {
 /// faces away from the viewer (n_z < 0) costs -n_z, about its distance to the nearest visible normal:
 /// near the outline noise puts the true normal there too, so it stays a candidate (a pixel left with
 /// one would hold its neighbours to it). Each also costs its shadow conflict: the light it would
-/// catch where the other photographs are dark.
-NormalCandidates photometric_candidates(const PhotometricStereoResult& result);
+/// catch where the other photographs are dark. Takes `result` by value: pass it with std::move when it
+/// is not needed after, and its normal maps are moved into the candidates instead of copied.
+NormalCandidates photometric_candidates(PhotometricStereoResult result);
 
 struct CandidateCutParams {
   /// Weight of the pairwise term: smoothness |n_p - n_q| between 4-neighbours (the paper's V_pq,
@@ -51,7 +52,9 @@ constexpr double kCoincidentDegrees = 3.0;
 struct CandidateCutResult {
   NormalMap normals;   ///< H x W, the chosen candidate as given; (0, 0, 0) where count is 0
   CountImage choice;   ///< H x W, the chosen candidate's index; -1 where count is 0
-  double initial_energy = 0.0;  ///< energy of the start: every pixel at its cheapest candidate
+  /// Energy of the start: every pixel at its cheapest candidate. Where no pixel has two or more
+  /// candidates there is nothing to choose and nothing is summed: initial_energy and energy are 0.
+  double initial_energy = 0.0;
   double energy = 0.0;          ///< energy of the cut's result (never above initial_energy), before
                                 ///< integrable_segments
   int cycles = 0;               ///< cycles run
@@ -69,13 +72,15 @@ struct CandidateCutResult {
 /// consistently (photometric_candidates: `first` on the viewer's side of the lights' plane), a region
 /// whose whole choice is wrong switches in one move. Then CandidateCutParams::integrable_segments.
 ///
-/// @param[in] candidates the candidates (shapes checked).
+/// @param[in] candidates the candidates (shapes checked); by value: pass them with std::move when they
+///                       are not needed after, and where no pixel has a choice their maps become the
+///                       result without a copy.
 /// @param[in] params     weights.
 /// @param[in] progress   told the fraction of the cycle budget done, as stage "candidate cut"; may
 ///                       throw Cancelled.
 /// @throws InvalidArgument for mismatched shapes, a count outside 0..N, non-finite or negative costs,
 ///         non-finite candidates, or params out of range.
-CandidateCutResult choose_candidates(const NormalCandidates& candidates, const CandidateCutParams& params = {},
+CandidateCutResult choose_candidates(NormalCandidates candidates, const CandidateCutParams& params = {},
                                      const Progress& progress = {});
 
 }  // namespace shadecut
