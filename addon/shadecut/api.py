@@ -445,6 +445,11 @@ def _image_files():
     return _imageio
 
 
+LUMINANCE_WEIGHTS: tuple = tuple(_core.LUMINANCE_WEIGHTS)
+"""The Rec. 709 weights (red, green, blue) of the linear intensity read from linear RGB: what
+``reconstruct`` and ``load_image`` take from a colour image."""
+
+
 def load_image(path: str | os.PathLike, color_space: str = "auto", max_pixels: Optional[int] = None) -> LoadedImage:
     """Reads an image file as linear intensity through OpenImageIO.
 

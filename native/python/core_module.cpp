@@ -148,6 +148,7 @@ void bind_geometry(py::module_& m) {
 
 // Images, masks and their comparison.
 void bind_images(py::module_& m) {
+  m.attr("LUMINANCE_WEIGHTS") = py::tuple(py::cast(shadecut::kLuminanceWeights));
   m.def("angular_error_map", [](const FloatArray& a, const FloatArray& b, const std::optional<BoolArray>& mask) {
     const NormalMap na = to_normals(a), nb = to_normals(b);
     return from_image(shadecut::angular_error_map(na, nb, mask_or_all(mask, na.rows, na.cols)));

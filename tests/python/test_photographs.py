@@ -140,6 +140,16 @@ def test_lambertian_photographs_of_a_scanned_material_give_its_normals_within_a_
 
 
 @pytest.mark.skipif(not MATERIALS.is_dir(), reason=f"the scanned materials are not in {MATERIALS}")
+def test_colour_photographs_are_read_through_the_luminance_weights():
+    assert shadecut.LUMINANCE_WEIGHTS == (0.2126, 0.7152, 0.0722)  # Rec. 709's
+    material = materials.load_material(MATERIALS / materials.TEST[0])
+    lights = materials.lights_around(4, 40.0)
+    colour = materials.lambertian_photographs(material, lights)
+    grey = [(photo.astype(np.float64) @ np.array(shadecut.LUMINANCE_WEIGHTS)).astype(np.float32) for photo in colour]
+    np.testing.assert_array_equal(shadecut.reconstruct(colour, lights).normals, shadecut.reconstruct(grey, lights).normals)
+
+
+@pytest.mark.skipif(not MATERIALS.is_dir(), reason=f"the scanned materials are not in {MATERIALS}")
 @pytest.mark.parametrize("name", materials.TEST)
 def test_four_photographs_with_cast_shadows_halve_one_photographs_error(name):
     """Issue 45: with cast shadows, at most half the single-photograph error of the same material."""

@@ -13,9 +13,11 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
+from ..api import LUMINANCE_WEIGHTS
 from .lambertian_scene import RenderError
 
-LUMINANCE = np.array([0.2126, 0.7152, 0.0722])  # Rec. 709, Blender's scene-linear primaries
+# Blender's scene-linear primaries are Rec. 709's: a render's grey is what reconstruct() reads from it.
+LUMINANCE = np.array(LUMINANCE_WEIGHTS)
 SHADOW_RATIO = 0.5  # a lit-facing pixel is in cast shadow when its direct light is below this share
 MIN_SHADOW_COSINE = 0.02  # below this S . N the pixel is (nearly) in attached shadow, not cast
 

@@ -15,7 +15,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from .. import diligent, reconstruct
+from .. import LUMINANCE_WEIGHTS, diligent, reconstruct
 from ..file_kinds import read_text
 from .inputs import EvaluationError, read_manifest
 from .metrics import normal_errors
@@ -26,7 +26,6 @@ PHOTOGRAPH_SETS = {"two": (79, 31), "four": (85, 7, 37, 49), "eight": (85, 79, 7
 ONE = "one"
 SHADECUT = "ShadeCut"
 LEAST_SQUARES = "plain least squares"
-LUMINANCE = np.array([0.2126, 0.7152, 0.0722])  # Rec. 709, what reconstruct() reads from a colour photograph
 _SHARED_METRICS = ("mean_deg", "median_deg", "under_11.25_pct", "under_22.5_pct", "under_30_pct", "seconds")
 
 
@@ -40,7 +39,7 @@ def set_label(name: str, images: Optional[Sequence[int]], count: int) -> str:
 def plain_least_squares(photographs: Sequence[np.ndarray], lights: np.ndarray) -> np.ndarray:
     """The baseline: per pixel, the luminances times the pseudo-inverse of the K x 3 lights,
     normalized; every photograph used, nothing left out (shadows and highlights included)."""
-    grey = np.stack([np.asarray(photo) @ LUMINANCE if np.ndim(photo) == 3 else np.asarray(photo)
+    grey = np.stack([np.asarray(photo) @ np.array(LUMINANCE_WEIGHTS) if np.ndim(photo) == 3 else np.asarray(photo)
                      for photo in photographs], axis=-1)
     scaled = grey @ np.linalg.pinv(np.asarray(lights, dtype=np.float64)).T
     return scaled / np.maximum(np.linalg.norm(scaled, axis=-1, keepdims=True), 1e-12)
