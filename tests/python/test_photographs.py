@@ -135,8 +135,7 @@ def test_lambertian_photographs_of_a_scanned_material_give_its_normals_within_a_
     material = materials.load_material(MATERIALS / name)
     lights = materials.lights_around(count, 40.0)
     result = shadecut.reconstruct(materials.lambertian_photographs(material, lights), lights)
-    error = np.degrees(np.arccos(np.clip((result.normals * material.normals).sum(-1), -1.0, 1.0)))
-    assert error.mean() < 1.0
+    assert shadecut.angular_error(result.normals, material.normals) < 1.0
 
 
 @pytest.mark.skipif(not MATERIALS.is_dir(), reason=f"the scanned materials are not in {MATERIALS}")
