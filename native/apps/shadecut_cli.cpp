@@ -187,6 +187,7 @@ void print_summary(const shadecut::cli::Arguments& arguments, const shadecut::Re
                     : "read from the image: its inversion renders " + ratio_text(stats.inverted_residual, stats.orientation_residual) +
                           " as far from it")
             << "\n";
+  if (!stats.albedo_message.empty()) std::cout << "albedo: " << stats.albedo_message << "\n";
   if (stats.cut_out == shadecut::CutOutOutcome::Found)
     std::cout << stats.cut_out_message << "\n";
   else if (stats.cut_out != shadecut::CutOutOutcome::NotTried)

@@ -124,6 +124,10 @@ void bind_stats(py::module_& m) {
       .def_readonly("cut_out_contrast", &ReconstructStats::cut_out_contrast,
                     "the share of the cut-out's outline that differs from the background")
       .def_readonly("cut_out_message", &ReconstructStats::cut_out_message, "the cut-out's sentence for the user")
+      .def_readonly("brighter_than_albedo", &ReconstructStats::brighter_than_albedo,
+                    "share of the mask brighter than the albedo used (read as facing the light)")
+      .def_readonly("albedo_message", &ReconstructStats::albedo_message,
+                    "a sentence for the user when a given albedo lies below much of the image; empty otherwise")
       .def_readonly("photographs", &ReconstructStats::photographs, "how many photographs the call read")
       .def_readonly("pair_pixels", &ReconstructStats::pair_pixels,
                     "several photographs: masked pixels where two were usable (the graph cut chose between two normals)")

@@ -1,6 +1,6 @@
 """The add-on in a scene's odd states (issue 48): a library-linked collection active (finding 4),
 Flip in Edit Mode and on an object sharing a result's material (finding 10), an EXR whose NaN lies
-only where its alpha is transparent (finding 15), a JPEG cut in half (finding 12), a photograph stored sideways with its EXIF orientation (finding 9), a multi-page TIFF (finding 14)."""
+only where its alpha is transparent (finding 15), a JPEG cut in half (finding 12), a photograph stored sideways with its EXIF orientation (finding 9), a multi-page TIFF (finding 14), an albedo typed below the image (finding 21)."""
 
 import bpy
 import numpy as np
@@ -56,6 +56,22 @@ def test_a_collection_made_linked_during_the_work_leaves_nothing_behind(addon, s
     assert reconstruct_job.finish_job(reports, bpy.context, job) == {"CANCELLED"}
     assert reports.last[0] == {"ERROR"} and "linked from the library" in reports.last[1]
     assert scene_state() == before
+
+
+def test_an_albedo_typed_below_the_image_is_warned_of(addon, sphere_png):
+    """Below the image's brightness the surface is read as facing the light wherever it is brighter:
+    the user hears so (finding 21), not only sees a flattened result."""
+    settings = sphere_with_its_light(sphere_png)
+    settings.auto_albedo, settings.albedo = False, 0.4
+    job = reconstruct_job.prepare_job(bpy.context)
+    job.run()
+    reports = Reports()
+    assert reconstruct_job.finish_job(reports, bpy.context, job) == {"FINISHED"}
+    assert reports.last[0] == {"WARNING"} and "brighter than the albedo given (0.400)" in reports.last[1]
+    settings.auto_albedo = True
+    job = reconstruct_job.prepare_job(bpy.context)
+    job.run()
+    assert job.result.stats.albedo_message == ""
 
 
 def frontal_result(tmp_path) -> bpy.types.Object:

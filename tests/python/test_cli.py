@@ -43,6 +43,16 @@ def test_an_object_without_alpha_is_cut_out_of_its_background(tmp_path):
     assert busy.returncode == 0 and "cut-out: no plain background" in busy.stdout and "--scene relief" in busy.stdout
 
 
+def test_an_albedo_below_the_image_is_named(tmp_path):
+    sphere = synthetic.sphere((1.0, 0.0, 1.0), size=64)
+    shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)
+    low = run(tmp_path / "sphere.png", "--light", "1,0,1", "--albedo", 0.5, "--out", tmp_path / "low", "--quiet")
+    assert low.returncode == 0, low.stderr
+    assert "albedo: " in low.stdout and "brighter than the albedo given (0.500)" in low.stdout
+    right = run(tmp_path / "sphere.png", "--light", "1,0,1", "--albedo", 1, "--out", tmp_path / "right", "--quiet")
+    assert right.returncode == 0 and "albedo: " not in right.stdout
+
+
 def test_without_a_light_it_estimates_one_and_says_which(tmp_path):
     sphere = synthetic.sphere((1.0, 0.0, 1.0), size=64, albedo=0.8)
     shadecut.save_image(tmp_path / "sphere.png", sphere.image, sphere.mask)

@@ -309,6 +309,7 @@ def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
                               f"{time.perf_counter() - job.started:.1f} s, {_lights_used(job)}, "
                               f"albedo {result.albedo:.3f}{job.shrunk}{report_cut_out(operator, job)}")
     report_orientation(operator, result)
+    report_albedo(operator, result)
     return {"FINISHED"}
 
 
@@ -320,6 +321,12 @@ def _lights_used(job: Job) -> str:
         return f"{job.light_origin} ({', '.join(f'{v:.3f}' for v in job.result.light)})"
     return (f"{stats.photographs} photographs under {job.light_origin} ({stats.pair_pixels:,} pixels lit in only two "
             f"of them, {stats.single_pixels + stats.dark_pixels:,} in fewer: filled from around)")
+
+
+def report_albedo(operator, result) -> None:
+    """A warning when the albedo typed in lies below much of the image (``stats.albedo_message``)."""
+    if result.stats.albedo_message:
+        operator.report({"WARNING"}, result.stats.albedo_message)
 
 
 def report_cut_out(operator, job: Job) -> str:
@@ -398,5 +405,6 @@ def finish_job(operator, context, job: Job) -> set[str]:
                               f"{report_cut_out(operator, job)}")
     obj[RESULT_PROPERTY] = True
     report_orientation(operator, result)
+    report_albedo(operator, result)
     return {"FINISHED"}
 

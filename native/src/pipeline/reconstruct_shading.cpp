@@ -17,6 +17,9 @@
 #include "support/parallel.hpp"
 #include "support/stopwatch.hpp"
 
+#include <iomanip>
+#include <sstream>
+
 namespace shadecut::detail {
 
 namespace {
@@ -85,6 +88,18 @@ void make_surface(const ImageF& image, const Mask& unreliable, const LightFrame&
   if (options.scene == SceneKind::Relief && !options.seamless) result.normals = normals_from_depth(result.depth, mask);
 }
 
+// ReconstructStats::brighter_than_albedo and albedo_message.
+void judge_albedo(const ImageF& image, const Mask& mask, bool given, double albedo, ReconstructStats& stats) {
+  stats.brighter_than_albedo = double((mask && image > float(albedo)).count()) / double(mask.count());
+  if (!given || stats.brighter_than_albedo <= kBrighterThanAlbedoShare) return;
+  std::ostringstream message;
+  message << std::fixed << std::setprecision(0) << 100.0 * stats.brighter_than_albedo
+          << " % of the pixels reconstructed are brighter than the albedo given (" << std::setprecision(3) << albedo
+          << "), which no surface of that albedo can be: they were read as facing the light. Give a larger albedo, or "
+             "let it be read from the image";
+  stats.albedo_message = message.str();
+}
+
 }  // namespace
 
 Reconstruction reconstruct_shading(const ImageF& input, const std::optional<Eigen::Vector3d>& light, const Mask* mask_in,
@@ -105,6 +120,7 @@ Reconstruction reconstruct_shading(const ImageF& input, const std::optional<Eige
   Reconstruction result;
   result.mask = mask;
   const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
+  judge_albedo(image, mask, albedo.has_value(), result.albedo, result.stats);
   const ThreadCountScope threads(options.threads);
   const Mask unreliable =
       unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), highlight_threshold_used(options));

@@ -49,6 +49,21 @@ TEST(Reconstruct, AnObjectInALargeFrameIsTheObjectAlone) {
                 1e-5f);
 }
 
+// A given albedo below much of the image is named; the true one, or one estimated, is not.
+TEST(Reconstruct, AnAlbedoBelowTheImageIsNamed) {
+  const Eigen::Vector3d light(0.4, 0.3, 1);
+  const testing::Scene scene = testing::sphere_scene(96, 0.45, light);
+  const Reconstruction low = reconstruct(scene.image, light, &scene.mask, 0.5, ReconstructOptions{});
+  const double above = double((scene.mask && scene.image > 0.5f).count()) / double(scene.mask.count());
+  EXPECT_DOUBLE_EQ(low.stats.brighter_than_albedo, above);
+  EXPECT_NE(low.stats.albedo_message.find("brighter than the albedo given (0.500)"), std::string::npos);
+  const Reconstruction right = reconstruct(scene.image, light, &scene.mask, 1.0, ReconstructOptions{});
+  EXPECT_EQ(right.stats.brighter_than_albedo, 0.0);
+  EXPECT_TRUE(right.stats.albedo_message.empty());
+  const Reconstruction estimated = reconstruct(scene.image, light, &scene.mask, std::nullopt, ReconstructOptions{});
+  EXPECT_TRUE(estimated.stats.albedo_message.empty());
+}
+
 // Every parallel loop writes its own pixels and every sum is taken in a fixed order, so the thread
 // count changes no bit of the result, for each method.
 TEST(Reconstruct, OneThreadAndTwoGiveTheSameBits) {

@@ -72,6 +72,12 @@ struct ReconstructStats {
   CutOutOutcome cut_out = CutOutOutcome::NotTried;
   double cut_out_contrast = 0.0;
   std::string cut_out_message;
+  /// One photograph: the share of the mask's pixels brighter than the albedo used, which a
+  /// Lambertian surface of that albedo cannot be (they are read as facing the light). A given albedo
+  /// with more than kBrighterThanAlbedoShare of them is likely wrong, and albedo_message says so for
+  /// the user; empty otherwise (an estimated albedo may leave highlights above it by design).
+  double brighter_than_albedo = 0.0;
+  std::string albedo_message;
   /// How many photographs the call read; with several, the masked pixels where two were usable (the
   /// graph cut chose between their two normals), one, and none (both filled from their neighbours).
   int photographs = 1;
@@ -98,6 +104,10 @@ struct Reconstruction {
   ImageF residual;
   ReconstructStats stats;
 };
+
+/// ReconstructStats::albedo_message: the share of the mask above which a given albedo below the
+/// image's brightness is named (a few noisy or specular pixels are not).
+constexpr double kBrighterThanAlbedoShare = 0.01;
 
 /// A result is ambiguous in its orientation (ReconstructStats::orientation_ambiguous) when its
 /// inversion renders less than this many times as far from the image (mean squared residual) as the
