@@ -70,8 +70,16 @@ def test_the_real_photograph_section_is_written(real_run):
     assert "| one (each alone, graphcut, mean) |" in report and "| all 3 |" in report
     with open(out / "results.csv") as stream:
         rows = list(csv.DictReader(stream))
-    assert {(row["method"], row["light"]) for row in rows} == {
+    single = [row for row in rows if not row["photographs"]]
+    assert {(row["method"], row["light"]) for row in single} == {
         ("flat plane", ""), *((m, light) for m in METHODS for light in ("calibrated", "estimated"))}
+    sets = [(row["sample"], row["photographs"], row["method"], row["light"]) for row in rows if row["photographs"]]
+    assert sets == [("sphere_one", "1", "ShadeCut", "calibrated"), ("sphere_all", "3", "ShadeCut", "calibrated"),
+                    ("sphere_all", "3", "plain least squares", "calibrated")]
+    by_set = {(record["set"], record["method"]): record for record in part["photographs"]}
+    for row in rows:
+        if row["photographs"]:
+            assert float(row["mean_deg"]) == pytest.approx(by_set[row["sample"].split("_")[-1], row["method"]]["mean_deg"])
 
 
 def test_the_import_is_reused(repo, photographs, real_run):

@@ -23,7 +23,9 @@ from .photographs import LEAST_SQUARES, ONE, PHOTOGRAPH_SETS, SHADECUT, set_labe
 from .runner import Evaluation
 
 # "light": empty for a dataset's records; "calibrated" or "estimated" for a real photograph's.
-CSV_COLUMNS = ("sample", "shape", "method", "light", "status", *METRICS, "error")
+# "photographs" and "two_lit_share": a several-photograph set's count and ShadeCut's share of two-lit
+# pixels; empty for one photograph's rows.
+CSV_COLUMNS = ("sample", "shape", "method", "light", "status", *METRICS, "error", "photographs", "two_lit_share")
 
 
 def _cell(value: Optional[float], digits: int = 2) -> str:
@@ -121,6 +123,14 @@ def _real_lines(real: dict, out_dir: Path) -> list[str]:
     return lines
 
 
+def _set_rows(evaluation: Evaluation) -> list[dict]:
+    """results.csv's rows of the several-photograph sets (calibrated lights): one per object, set and
+    method, named <object>_<set>."""
+    return [{**record, "sample": f"{name}_{record['set']}", "shape": name, "light": "calibrated",
+             "photographs": record["count"]}
+            for name, part in (evaluation.real or {}).get("objects", {}).items() for record in part.get("photographs", [])]
+
+
 def _json_ready(value):
     """Plain JSON: NaN and infinities (a diverged method) become null instead of invalid JSON."""
     if isinstance(value, float) and not math.isfinite(value):
@@ -153,9 +163,9 @@ def write_results(out_dir: os.PathLike | str, evaluation: Evaluation, figures: S
     write_text(paths["json"], json.dumps(_json_ready(document), indent=1, ensure_ascii=False) + "\n")
 
     table = io.StringIO()
-    writer = csv.DictWriter(table, fieldnames=CSV_COLUMNS)
+    writer = csv.DictWriter(table, fieldnames=CSV_COLUMNS, extrasaction="ignore")
     writer.writeheader()
-    for record in evaluation.all_records:
+    for record in evaluation.all_records + _set_rows(evaluation):
         writer.writerow({k: ("" if v is None else v) for k, v in record.items()})
     write_text(paths["csv"], table.getvalue())
 
