@@ -328,15 +328,24 @@ def test_a_call_too_large_for_the_memory_it_may_use_is_refused_at_once():
 
 def test_options_outside_what_makes_sense_are_refused_with_their_range():
     """Issue 48: findings 5 (a paint line width that allocated gigabytes), 11 (a detail size that left a
-    depth of 0), 21 (retinex_passes=10**9 ran until cancelled), each refused with the allowed range."""
+    depth of 0), 21 (retinex_passes=10**9 ran until cancelled, max_slope=1e-300 left a depth of 0), each
+    refused with the allowed range."""
     scene = synthetic.sphere((1.0, 0.0, 1.0), size=32)
     for overrides, message in [
         ({"paint_line_width": 46341, "scene": "relief"}, r"paint_line_width must be in 0 \.\. 1024; got 46341"),
         ({"detail_size": 2.0, "scene": "relief"}, r"detail_size must be 0 .* or at least 5 pixels"),
         ({"retinex_passes": 10**9, "albedo_method": "retinex"}, r"retinex_passes must be in 1 \.\. 10"),
+        ({"max_slope": 1e-300}, r"max_slope must be finite and >= 0\.01; got 1e-300"),
     ]:
         with pytest.raises(ValueError, match=message):
             shadecut.reconstruct(scene.image, scene.light, None, **overrides)
+
+
+def test_integrate_refuses_a_slope_clamp_that_flattens_every_surface():
+    scene = synthetic.sphere((1.0, 0.0, 1.0), size=32)
+    with pytest.raises(ValueError, match=r"max_slope must be finite and at least 0\.01 .* a flat surface\); got 1e-300"):
+        shadecut.integrate(scene.normals, scene.mask, max_slope=1e-300)
+    assert shadecut.integrate(scene.normals, scene.mask, max_slope=0.01).max() > 0
 
 
 @pytest.mark.parametrize("name, value", [("refine", None), ("cut_out", 2), ("threads", True), ("labels", 36.0),

@@ -12,6 +12,7 @@
 #include <complex>
 #include <limits>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,9 +48,11 @@ void validate(const NormalMap& normals, const Mask& mask, double max_slope) {
                           std::to_string(mask.cols()) + " but the normals are " + std::to_string(normals.rows) +
                           " x " + std::to_string(normals.cols));
   }
-  if (!(max_slope > 0.0) || !std::isfinite(max_slope)) {
-    throw InvalidArgument("integrate_normals: max_slope must be positive and finite, got " +
-                          std::to_string(max_slope));
+  if (!(max_slope >= kMinMaxSlope) || !std::isfinite(max_slope)) {
+    std::ostringstream message;
+    message << "shadecut: max_slope must be finite and at least " << kMinMaxSlope << " (depth pixels per pixel; below, "
+            << "every normal is clamped to within a degree of the viewer: a flat surface); got " << max_slope;
+    throw InvalidArgument(message.str());
   }
 }
 

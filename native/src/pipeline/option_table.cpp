@@ -1,6 +1,7 @@
 #include <shadecut/pipeline/option_table.hpp>
 
 #include <shadecut/graphcut/tilt_energy.hpp>
+#include <shadecut/integrate/integrate.hpp>
 #include <shadecut/support/errors.hpp>
 
 #include <cmath>
@@ -98,7 +99,7 @@ std::vector<OptionField> surface_fields() {
       {"occluding_contour", G::ShadowsAndHighlights, &O::occluding_contour, {},
        "objects: the mask's edge is an occluding contour (normals there point outward)", {}},
       {"integrator", G::Integration, &O::integrator, {}, "how the normals are integrated into depth", {}},
-      {"max_slope", G::Integration, &O::max_slope, above(0.0), "the integrator clamps the depth's gradient to +- this (pixels per pixel)", {}},
+      {"max_slope", G::Integration, &O::max_slope, at_least(kMinMaxSlope), "the integrator clamps the depth's gradient to +- this (pixels per pixel)", {}},
       {"seamless", G::Integration, &O::seamless, {},
        "reliefs over the whole image (no mask): depth and normals that tile, for seamless textures; the integrator is then unused", {}},
       {"fit_shading", G::Refinement, &O::fit_shading, {},

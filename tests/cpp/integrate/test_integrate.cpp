@@ -304,6 +304,8 @@ TEST(Integrate, RejectsBadInputs) {
     EXPECT_THROW(shadecut::integrate_normals(normals, mask, method, 0.0), InvalidArgument);
     EXPECT_THROW(shadecut::integrate_normals(normals, mask, method, -1.0), InvalidArgument);
     EXPECT_THROW(shadecut::integrate_normals(normals, mask, method, std::nan("")), InvalidArgument);
+    EXPECT_THROW(shadecut::integrate_normals(normals, mask, method, 1e-300), InvalidArgument);  // a flat surface
+    EXPECT_NO_THROW(shadecut::integrate_normals(normals, mask, method, shadecut::kMinMaxSlope));
 
     NormalMap with_nan = normals;
     with_nan.xyz(10, 2) = std::numeric_limits<float>::quiet_NaN();

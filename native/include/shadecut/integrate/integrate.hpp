@@ -34,6 +34,10 @@ std::string to_string(Integrator integrator);
 /// @return the number of normals folded.
 int fold_back_facing(NormalMap& normals, const Mask& mask);
 
+/// The least max_slope an integration takes: a clamp below it keeps every normal within a degree of
+/// the viewer (atan(0.01 sqrt 2) = 0.8 degrees), a flat surface whatever the normals say.
+constexpr double kMinMaxSlope = 0.01;
+
 /// Integrates camera-frame normals into depth.
 ///
 /// The surface gradients are p = dz/dx = -n_x / n_z and q = dz/dy = -n_y / n_z (x right, y up, so
@@ -50,7 +54,7 @@ int fold_back_facing(NormalMap& normals, const Mask& mask);
 /// @param[in] normals   H x W unit normals, camera frame. Normals outside the mask are never read.
 /// @param[in] mask      H x W; only masked pixels are integrated (Poisson) or carry gradients (FC).
 /// @param[in] method    which integrator.
-/// @param[in] max_slope bound on |p| and |q|, depth units per pixel; must be positive and finite.
+/// @param[in] max_slope bound on |p| and |q|, depth units per pixel; finite and >= kMinMaxSlope.
 /// @param[in] progress  told the fraction done, as stage "integration" (Poisson); may throw Cancelled.
 /// @return H x W depth in pixel units, larger = closer to the viewer. Every 4-connected component of
 ///         the mask is shifted so that its minimum is 0 (both methods; a one-pixel component is 0);
