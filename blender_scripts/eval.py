@@ -2,7 +2,7 @@
 
     blender -b -P blender_scripts/eval.py -- [--dataset DIR] [--methods graphcut,lee_rosenfeld,...]
         [--out DIR] [--size N] [--estimate-light [ESTIMATOR]] [--shapes a,b] [--lights N] [--seed S]
-        [--no-paper] [--diligent DIR] [--fit-shading]
+        [--no-paper] [--diligent DIR] [--materials DIR] [--fit-shading]
 
 Without --dataset, the default dataset (make_dataset.py's built-in shapes, three seeded lights each,
 256 x 256; --size, --shapes, --lights and --seed change it) is generated once into
@@ -18,10 +18,19 @@ report gets a "Real photographs" section (a table per object, with the flat plan
 strip per object). --diligent alone runs only that part; with --dataset DIR the synthetic dataset
 (and the paper's experiment, unless --no-paper) is evaluated too.
 
-Exit code: 0 when every method was evaluated on every sample; 1 when a method failed on a sample
+--materials DIR evaluates one photograph of each scanned material of the test half
+(shadecut.materials.TEST; DIR is ../shared/data/materials or a folder in its layout) under four lights
+at slant 40 degrees, beside the artist's baselines: flat, the image as height (its strength chosen on
+the training half, and the best strength knowing the truth) and ShadeCut (scene "relief", true and
+estimated light). Writes materials.json, materials.csv and materials.md to --out
+(shadecut.evaluation.materials). Alone (or with --diligent only), no synthetic dataset is evaluated,
+and without --diligent results.json, results.csv and report.md are not written.
+
+Exit code: 0 when every method was evaluated on every sample (and material render); 1 when a method failed on a sample
 (recorded in the results) or a result could not be written (a full disk: named, and every file is
 either whole or its previous version, never cut short); 2 for bad input (unknown method, missing or malformed dataset, a
---diligent folder missing or not in DiLiGenT's layout, unwritable output folder), with a message
+--diligent folder missing or not in DiLiGenT's layout, a --materials folder without the ten materials'
+maps, unwritable output folder), with a message
 and no traceback.
 
 The metrics, tables and strips live in shadecut.evaluation (no bpy); this script parses the
@@ -52,6 +61,8 @@ import dataset_generator  # noqa: E402  (after the path inserts: the repository'
 import shadecut  # noqa: E402
 import shapes  # noqa: E402
 from shadecut import evaluation  # noqa: E402
+from shadecut import materials  # noqa: E402
+from shadecut.evaluation import materials as material_baselines  # noqa: E402
 from shadecut.blender import lambertian, lambertian_passes, lambertian_scene  # noqa: E402
 from shadecut.atomic_write import replacing, write_text  # noqa: E402
 from shadecut.blender.mesh import depth_mesh  # noqa: E402
@@ -80,6 +91,9 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
                         help="skip the paper's experiment (Mozart, light (1,0,1))")
     parser.add_argument("--diligent", type=Path, metavar="DIR",
                         help="real photographs: a DiLiGenT object folder or a folder of them (alone: only these)")
+    parser.add_argument("--materials", type=Path, metavar="DIR",
+                        help="scanned materials (../shared/data/materials): one photograph of each of the test "
+                             "half beside flat and the image as height (alone: only these)")
     parser.add_argument("--fit-shading", action=argparse.BooleanOptionalAction,
                         help="graphcut's fit_shading (the depth fitted to the image) on or off "
                              f"(default: {'on' if shadecut.ReconstructOptions().fit_shading else 'off'})")
@@ -243,6 +257,15 @@ def paper_figures(figures: Path, result: evaluation.SampleResult) -> Path:
     return path
 
 
+def check_materials(folder: Path | None) -> None:
+    """EvaluationError unless ``folder`` (None: not asked) holds every material of both halves, readable."""
+    if folder is not None:
+        try:
+            material_baselines.load_half(folder, materials.TRAINING + materials.TEST)
+        except ValueError as error:
+            raise evaluation.EvaluationError(str(error).removeprefix("shadecut: ")) from None
+
+
 def main(argv: list[str]) -> int:
     args = parse_args(argv)
     start = time.monotonic()
@@ -255,12 +278,14 @@ def main(argv: list[str]) -> int:
         if args.dataset is not None and generated_only:
             raise evaluation.EvaluationError(f"{', '.join(generated_only)} apply to the generated dataset, "
                                              "not to one given with --dataset")
-        run_dataset = args.diligent is None or args.dataset is not None  # --diligent alone: photographs only
+        # --diligent or --materials alone: those photographs only
+        run_dataset = (args.diligent is None and args.materials is None) or args.dataset is not None
         if not run_dataset and (generated_only or args.estimate_light):
             given = generated_only + (["--estimate-light"] if args.estimate_light else [])
             raise evaluation.EvaluationError(f"{', '.join(given)} apply to a synthetic dataset, which --diligent "
-                                             "alone does not evaluate (add --dataset DIR)")
+                                             "or --materials alone does not evaluate (add --dataset DIR)")
         objects = evaluation.find_objects(args.diligent) if args.diligent is not None else []
+        check_materials(args.materials)
         evaluation.prepare_output(out)
         dataset = None
         if run_dataset:
@@ -308,6 +333,16 @@ def evaluate_and_report(args: argparse.Namespace, methods: tuple, dataset: Path 
         log(f"evaluating {len(methods)} methods ({', '.join(methods)}) on the real photographs of "
             f"{', '.join(imported)}; calibrated, then estimated light; albedo estimated")
         run.real = evaluation.evaluate_real(imported, methods, options=options, figures_dir=figures, log=log)
+    material_failures = 0
+    if args.materials is not None:
+        log(f"one photograph of each material of the test half ({', '.join(materials.TEST)}) beside the artist's "
+            "baselines")
+        material_paths, material_summary = material_baselines.evaluate_test_half(args.materials, out, options, log)
+        log("\nMaterials, test half:\n" + material_baselines.summary_table(material_summary))
+        log(f"written to {out}: {', '.join(material_paths)}")
+        material_failures = sum(part["failed"] for part in material_summary.values())
+    if not (run_dataset or imported):
+        return 1 if material_failures else 0
     paths = evaluation.write_results(out, run, shown)
 
     summary = run.summary
@@ -326,7 +361,7 @@ def evaluate_and_report(args: argparse.Namespace, methods: tuple, dataset: Path 
             log(f"  {record['sample']} / {record['method']}: {record['error']}")
     log(f"\nreport written to {out}: {paths['report'].name}, {paths['json'].name}, {paths['csv'].name}, figures/ "
         f"({time.monotonic() - start:.0f} s in all)")
-    return 1 if failed else 0
+    return 1 if failed or material_failures else 0
 
 
 if __name__ == "__main__":
