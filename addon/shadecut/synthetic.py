@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Sequence
 
 import numpy as np
@@ -100,16 +101,16 @@ def vase(light: Sequence[float], size: int = 128, albedo: float = 1.0) -> Scene:
     return _scene(normals, height, mask, light, albedo)
 
 
+def _read_features(path: Path) -> tuple[tuple[float, float, float, float], ...]:
+    """The rows of a bump table (centre_x, centre_y, sigma, amplitude, a header line first)."""
+    rows = path.read_text().split()[1:]
+    return tuple(tuple(float(value) for value in row.split(",")) for row in rows)
+
+
 # (centre x, centre y, sigma, amplitude) in units of the image size: three bumps and three dents on
-# a 3 x 2 layout, apart enough that each keeps its own shape.
-BUMPS = (
-    (-0.28, 0.18, 0.07, 0.1),
-    (0.0, 0.18, 0.07, -0.1),
-    (0.28, 0.18, 0.07, 0.1),
-    (-0.28, -0.18, 0.07, -0.1),
-    (0.0, -0.18, 0.07, 0.1),
-    (0.28, -0.18, 0.07, -0.1),
-)
+# a 3 x 2 layout, apart enough that each keeps its own shape. Held in a file that the C++ tests
+# (tests/cpp/test_support.cpp) read too, so that both build the same bump field.
+BUMPS = _read_features(Path(__file__).with_name("synthetic_bumps.csv"))
 
 
 def bumps(light: Sequence[float], size: int = 128, features=BUMPS, albedo: float = 1.0) -> Scene:

@@ -4,9 +4,13 @@
 #include <shadecut/support/render.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace shadecut::testing {
 
@@ -45,17 +49,40 @@ Scene sphere_scene(int size, double radius_fraction, const Eigen::Vector3d& ligh
   return scene;
 }
 
+namespace {
+
+// synthetic.BUMPS, read from the file it is held in: (centre x, centre y, sigma, amplitude) in units
+// of the image size.
+std::vector<std::array<double, 4>> bump_features() {
+  const std::string path = std::string(SHADECUT_ADDON_DIR) + "/shadecut/synthetic_bumps.csv";
+  std::ifstream file(path);
+  std::string line;
+  if (!std::getline(file, line)) throw std::runtime_error("cannot read " + path);
+  std::vector<std::array<double, 4>> features;
+  while (std::getline(file, line)) {
+    std::array<double, 4> row{};
+    std::istringstream fields(line);
+    for (double& value : row) {
+      std::string field;
+      std::getline(fields, field, ',');
+      value = std::stod(field);
+    }
+    features.push_back(row);
+  }
+  return features;
+}
+
+}  // namespace
+
 Scene bumps_scene(int size, const Eigen::Vector3d& light) {
-  // (centre x, centre y, sigma, amplitude) in units of the image size, as synthetic.BUMPS.
-  constexpr double kFeatures[6][4] = {{-0.28, 0.18, 0.07, 0.1},   {0.0, 0.18, 0.07, -0.1}, {0.28, 0.18, 0.07, 0.1},
-                                      {-0.28, -0.18, 0.07, -0.1}, {0.0, -0.18, 0.07, 0.1}, {0.28, -0.18, 0.07, -0.1}};
+  const std::vector<std::array<double, 4>> features = bump_features();
   const double centre = 0.5 * (size - 1);
   Scene scene{ImageF::Zero(size, size), NormalMap(size, size), ImageF::Zero(size, size), Mask::Constant(size, size, true)};
   for (int r = 0; r < size; ++r) {
     for (int c = 0; c < size; ++c) {
       const double x = c - centre, y = centre - r;
       double z = 0.0, dz_dx = 0.0, dz_dy = 0.0;
-      for (const auto& f : kFeatures) {
+      for (const auto& f : features) {
         const double cx = f[0] * size, cy = f[1] * size, sigma = f[2] * size, amplitude = f[3] * size;
         const double g = amplitude * std::exp(-((x - cx) * (x - cx) + (y - cy) * (y - cy)) / (2.0 * sigma * sigma));
         z += g;
