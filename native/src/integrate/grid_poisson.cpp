@@ -1,11 +1,13 @@
 #include "integrate/grid_poisson.hpp"
 
 #include "integrate/fourier.hpp"
+#include "support/mask_bounds.hpp"
 #include "support/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -322,10 +324,10 @@ std::vector<double> solve_rectangle(const Mask& whole, const EdgeRises& rises) {
   return field;
 }
 
-// The same problem on the rectangle [top, top + rows) x [left, left + cols) of the grid, which holds
-// every masked cell; solved there and written back into the whole grid.
+// The same problem on the rectangle `box` of the grid, which holds every masked cell; solved there and written back into the whole grid.
 std::vector<double> solve_in_box(const Mask& mask, const EdgeRises& rises, double relative_tolerance,
-                                 const Progress& progress, const Anchors* anchors, int top, int left, int rows, int cols) {
+                                 const Progress& progress, const Anchors* anchors, const Box& box) {
+  const int top = box.top, left = box.left, rows = box.rows, cols = box.cols;
   const Eigen::Index grid_cols = mask.cols();
   auto cropped = [&](const std::vector<double>& field) {
     if (field.empty()) return field;
@@ -351,15 +353,10 @@ std::vector<double> solve_in_box(const Mask& mask, const EdgeRises& rises, doubl
 std::vector<double> solve_grid_poisson(const Mask& mask, const EdgeRises& rises, double relative_tolerance,
                                        const Progress& progress, const Anchors* anchors) {
   // Only the masked cells' bounding box is worked on: the rest would be allocated and swept for nothing.
-  const Eigen::Array<bool, Eigen::Dynamic, 1> any_in_row = mask.rowwise().any(), any_in_col = mask.colwise().any().transpose();
-  int top = 0, bottom = int(mask.rows()), left = 0, right = int(mask.cols());
-  while (top < bottom && !any_in_row(top)) ++top;
-  while (bottom > top && !any_in_row(bottom - 1)) --bottom;
-  while (left < right && !any_in_col(left)) ++left;
-  while (right > left && !any_in_col(right - 1)) --right;
-  if (top == bottom) return std::vector<double>(std::size_t(mask.size()), 0.0);
-  if (bottom - top < mask.rows() || right - left < mask.cols())
-    return solve_in_box(mask, rises, relative_tolerance, progress, anchors, top, left, bottom - top, right - left);
+  const std::optional<Box> box = mask_bounds(mask);
+  if (!box) return std::vector<double>(std::size_t(mask.size()), 0.0);
+  if (box->rows < mask.rows() || box->cols < mask.cols())
+    return solve_in_box(mask, rises, relative_tolerance, progress, anchors, *box);
   if (mask.all() && !anchors) {
     std::vector<double> depth = solve_rectangle(mask, rises);
     progress.report(1.0, "integration");

@@ -1,6 +1,7 @@
 #include <shadecut/support/errors.hpp>
 #include <shadecut/integrate/integrate.hpp>
 #include <shadecut/support/mask_components.hpp>
+#include <shadecut/support/validate.hpp>
 
 #include "support/enum_names.hpp"
 #include "integrate/grid_poisson.hpp"
@@ -12,7 +13,6 @@
 #include <complex>
 #include <limits>
 #include <stdexcept>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,10 +49,9 @@ void validate(const NormalMap& normals, const Mask& mask, double max_slope) {
                           " x " + std::to_string(normals.cols));
   }
   if (!(max_slope >= kMinMaxSlope) || !std::isfinite(max_slope)) {
-    std::ostringstream message;
-    message << "shadecut: max_slope must be finite and at least " << kMinMaxSlope << " (depth pixels per pixel; below, "
-            << "every normal is clamped to within a degree of the viewer: a flat surface); got " << max_slope;
-    throw InvalidArgument(message.str());
+    throw InvalidArgument("shadecut: max_slope must be finite and at least " + number_text(kMinMaxSlope) +
+                          " (depth pixels per pixel; below, every normal is clamped to within a degree of the "
+                          "viewer: a flat surface); got " + number_text(max_slope));
   }
 }
 

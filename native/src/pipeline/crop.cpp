@@ -14,25 +14,25 @@ constexpr int kGrid = 64;
 constexpr double kLargestShare = 0.5;
 
 template <typename Array>
-Array cropped(const Array& image, const Window& window) {
+Array cropped(const Array& image, const Box& window) {
   return image.block(window.top, window.left, window.rows, window.cols);
 }
 
 template <typename Array>
-Array placed(const Array& image, const Window& window, int rows, int cols) {
+Array placed(const Array& image, const Box& window, int rows, int cols) {
   if (image.size() == 0) return image;
   Array frame = Array::Zero(rows, cols);
   frame.block(window.top, window.left, window.rows, window.cols) = image;
   return frame;
 }
 
-ColourImage placed(const ColourImage& colour, const Window& window, int rows, int cols) {
+ColourImage placed(const ColourImage& colour, const Box& window, int rows, int cols) {
   ColourImage frame;
   for (std::size_t k = 0; k < colour.channel.size(); ++k) frame.channel[k] = placed(colour.channel[k], window, rows, cols);
   return frame;
 }
 
-NormalMap placed(const NormalMap& normals, const Window& window, int rows, int cols) {
+NormalMap placed(const NormalMap& normals, const Box& window, int rows, int cols) {
   NormalMap frame(rows, cols);
   for (int r = 0; r < window.rows; ++r)
     frame.xyz.middleRows(Eigen::Index(window.top + r) * cols + window.left, window.cols) =
@@ -42,23 +42,21 @@ NormalMap placed(const NormalMap& normals, const Window& window, int rows, int c
 
 }  // namespace
 
-std::optional<Window> object_window(const Mask& mask) {
+std::optional<Box> object_window(const Mask& mask) {
+  const std::optional<Box> bounds = mask_bounds(mask);
+  if (!bounds) return std::nullopt;
   const int rows = int(mask.rows()), cols = int(mask.cols());
-  int top = rows, bottom = -1, left = cols, right = -1;
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c)
-      if (mask(r, c)) top = std::min(top, r), bottom = std::max(bottom, r), left = std::min(left, c), right = std::max(right, c);
-  if (bottom < 0) return std::nullopt;
+  const int bottom = bounds->top + bounds->rows - 1, right = bounds->left + bounds->cols - 1;
   auto down_to_grid = [](int at) { return std::max(0, at - kMargin) / kGrid * kGrid; };
   auto up_to_grid = [](int at, int size) { return std::min(size, (at + kMargin + kGrid) / kGrid * kGrid); };
-  Window window;
-  window.top = down_to_grid(top), window.left = down_to_grid(left);
+  Box window;
+  window.top = down_to_grid(bounds->top), window.left = down_to_grid(bounds->left);
   window.rows = up_to_grid(bottom, rows) - window.top, window.cols = up_to_grid(right, cols) - window.left;
   if (double(window.rows) * window.cols > kLargestShare * double(rows) * cols) return std::nullopt;
   return window;
 }
 
-std::vector<Observation> crop_observations(const std::vector<Observation>& observations, const Window& window) {
+std::vector<Observation> crop_observations(const std::vector<Observation>& observations, const Box& window) {
   std::vector<Observation> inside;
   inside.reserve(observations.size());
   for (const Observation& photograph : observations) {
@@ -72,9 +70,9 @@ std::vector<Observation> crop_observations(const std::vector<Observation>& obser
   return inside;
 }
 
-Mask crop_mask(const Mask& mask, const Window& window) { return cropped(mask, window); }
+Mask crop_mask(const Mask& mask, const Box& window) { return cropped(mask, window); }
 
-Reconstruction put_back(Reconstruction result, const Window& window, int rows, int cols) {
+Reconstruction put_back(Reconstruction result, const Box& window, int rows, int cols) {
   result.normals = placed(result.normals, window, rows, cols);
   result.depth = placed(result.depth, window, rows, cols);
   result.mask = placed(result.mask, window, rows, cols);

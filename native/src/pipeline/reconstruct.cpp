@@ -28,7 +28,10 @@ Reconstruction reconstruct_masked(const std::vector<Observation>& observations, 
   return detail::solve_in_object_window(observations, mask, solve);
 }
 
-Reconstruction reconstruct_cut_out(const Observation& photograph, std::optional<double> albedo, const ReconstructOptions& options) {
+// `alone` holds one photograph: passed as the list it came in, so that the cut-out's call copies none.
+Reconstruction reconstruct_cut_out(const std::vector<Observation>& alone, std::optional<double> albedo,
+                                   const ReconstructOptions& options) {
+  const Observation& photograph = alone.front();
   const ImageF& image = photograph.image;
   const ColourImage* colour = photograph.has_colour() ? &photograph.colour : nullptr;
   // The options and the memory first: a call refused for its size is refused at once, not after the cut.
@@ -38,7 +41,7 @@ Reconstruction reconstruct_cut_out(const Observation& photograph, std::optional<
   const CutOut cut = cut_out(image, colour, CutOutOptions{}, Progress(options.progress).range(0.0, 0.0));
   const double seconds = stopwatch.seconds();
   Reconstruction result = cut.outcome == CutOutOutcome::Found
-                              ? reconstruct_masked({photograph}, cut.mask, albedo, options)
+                              ? reconstruct_masked(alone, cut.mask, albedo, options)
                               : detail::reconstruct_painted(image, colour, photograph.light, nullptr, albedo, options);
   result.stats.cut_out = cut.outcome;
   result.stats.cut_out_contrast = cut.outline_contrast;
@@ -48,8 +51,10 @@ Reconstruction reconstruct_cut_out(const Observation& photograph, std::optional<
   return result;
 }
 
-Reconstruction reconstruct_one(const Observation& photograph, std::optional<double> albedo, const ReconstructOptions& options) {
-  if (options.scene == SceneKind::Object && options.cut_out) return reconstruct_cut_out(photograph, albedo, options);
+Reconstruction reconstruct_one(const std::vector<Observation>& alone, std::optional<double> albedo,
+                               const ReconstructOptions& options) {
+  if (options.scene == SceneKind::Object && options.cut_out) return reconstruct_cut_out(alone, albedo, options);
+  const Observation& photograph = alone.front();
   const ColourImage* colour = photograph.has_colour() ? &photograph.colour : nullptr;
   return detail::reconstruct_painted(photograph.image, colour, photograph.light, nullptr, albedo, options);
 }
@@ -62,7 +67,7 @@ Reconstruction reconstruct(const std::vector<Observation>& observations, const M
   check_option_ranges(options);
   if (mask) return reconstruct_masked(observations, *mask, albedo, options);
   if (observations.size() > 1) return detail::reconstruct_photographs(observations, nullptr, albedo, options);
-  return reconstruct_one(observations.front(), albedo, options);
+  return reconstruct_one(observations, albedo, options);
 }
 
 Reconstruction reconstruct(const ImageF& image, const std::optional<Eigen::Vector3d>& light, const Mask* mask,
