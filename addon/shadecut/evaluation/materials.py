@@ -92,11 +92,12 @@ def load_half(folder: os.PathLike | str, names: Sequence[str]) -> list[Material]
     return [load_material(folder / name) for name in names]
 
 
-def training_strength(folder: os.PathLike | str, lights: Optional[np.ndarray] = None,
-                      names: Sequence[str] = TRAINING) -> float:
-    """The one strength of :data:`STRENGTHS` whose mean image-as-height error over the renders of the
-    training materials ``names`` (each under each light; default :func:`default_lights`) is least.
-    A material of the test half among ``names`` is refused (ValueError): it would see the test."""
+def training_errors(folder: os.PathLike | str, lights: Optional[np.ndarray] = None,
+                    names: Sequence[str] = TRAINING) -> np.ndarray:
+    """Per strength of :data:`STRENGTHS`, the mean image-as-height error (degrees) over the renders of
+    the training materials ``names`` of ``folder``, each under each light (default
+    :func:`default_lights`). A material of the test half among ``names`` is refused (ValueError): a
+    strength chosen from it would have seen the test."""
     leaked = sorted(set(names) & set(TEST))
     if leaked:
         raise ValueError(f"shadecut: {', '.join(leaked)} belong to the test half; a strength is chosen on "
@@ -104,7 +105,13 @@ def training_strength(folder: os.PathLike | str, lights: Optional[np.ndarray] = 
     lights = default_lights() if lights is None else lights
     errors = [height_errors(photograph, material.normals)
               for material in load_half(folder, names) for _, photograph in renders(material, lights)]
-    return float(STRENGTHS[int(np.argmin(np.mean(errors, axis=0)))])
+    return np.mean(errors, axis=0)
+
+
+def training_strength(errors: np.ndarray) -> float:
+    """The one documented procedure: the strength of least mean error over the training renders
+    (``errors`` from :func:`training_errors`)."""
+    return float(STRENGTHS[int(np.argmin(errors))])
 
 
 def _row(material: str, light: np.ndarray, method: str, mean_deg: Optional[float], **extra) -> dict:
@@ -201,10 +208,21 @@ def _cell(value: Optional[float]) -> str:
     return "—" if value is None else f"{value:.2f}"
 
 
+def _training_line(settings: dict) -> str:
+    """The training curve at each power of ten of :data:`STRENGTHS` ("" without one)."""
+    curve = settings.get("training_mean_deg")
+    if curve is None:
+        return ""
+    decades = [f"{strength:g}: {error:.2f}°" for strength, error in zip(settings["strengths"], curve)
+               if np.isclose(np.log10(strength), round(np.log10(strength)))]
+    return "Mean image-as-height error over the training renders, by strength: " + ", ".join(decades) + "."
+
+
 def write_materials(out_dir: os.PathLike | str, rows: Sequence[dict], settings: dict) -> dict:
     """Writes :data:`FILES` into ``out_dir``, each whole or not at all: materials.json (``settings``,
     the rows, the summary), materials.csv (the rows) and materials.md (the command, the tables).
-    ``settings`` holds at least "materials" (names) and "strength". Returns name -> path."""
+    ``settings`` holds at least "materials" (names) and "strength", and may hold "strengths" with
+    "training_mean_deg" (the training curve). Returns name -> path."""
     out_dir = Path(out_dir)
     paths = {name: out_dir / name for name in FILES}
     summary = summarize_materials(rows)
@@ -220,7 +238,7 @@ def write_materials(out_dir: os.PathLike | str, rows: Sequence[dict], settings: 
     lines = ["# Materials: the artist's baselines", "", provenance(), "",
              f"{renders_count} Lambertian renders of {', '.join(settings['materials'])}; image-as-height "
              f"strength chosen on the training half: {settings['strength']:g}. Mean angular error in degrees "
-             "over every pixel.", "", summary_table(summary), "", "Per material, the mean over its lights:", "",
+             "over every pixel.", "", _training_line(settings), "", summary_table(summary), "", "Per material, the mean over its lights:", "",
              material_table(rows), ""]
     write_text(paths["materials.md"], "\n".join(lines))
     return paths
@@ -231,10 +249,11 @@ def evaluate_test_half(folder: os.PathLike | str, out_dir: os.PathLike | str, op
     """eval.py's --materials: the strength chosen on the training half of ``folder``, every row of the
     test half under :func:`default_lights`, written by :func:`write_materials`; (paths, summary)."""
     lights = default_lights()
-    strength = training_strength(folder, lights)
+    curve = training_errors(folder, lights)
+    strength = training_strength(curve)
     log(f"materials: image-as-height strength {strength:g}, chosen on the training half ({', '.join(TRAINING)})")
     rows = evaluate_materials(folder, TEST, lights, strength, options, log)
     settings = {"folder": str(Path(folder).resolve()), "materials": list(TEST), "training": list(TRAINING),
                 "lights": lights.tolist(), "slant_deg": SLANT_DEGREES, "strength": strength,
-                "strengths": STRENGTHS.tolist(), "options": dict(options or {})}
+                "strengths": STRENGTHS.tolist(), "training_mean_deg": curve.tolist(), "options": dict(options or {})}
     return write_materials(out_dir, rows, settings), summarize_materials(rows)
