@@ -70,3 +70,28 @@ def test_a_failed_write_leaves_the_previous_file_and_no_temporary(tmp_path):
         pass
     assert target.read_text() == "the previous results"
     assert [path.name for path in tmp_path.iterdir()] == ["results.json"]
+
+
+def test_a_sets_outputs_that_would_replace_an_input_are_refused_before_any_work(tmp_path):
+    """The set rug/ writes rug_albedo.png beside its other files: into IN_DIR itself it would replace
+    the image of that name."""
+    (tmp_path / "rug").mkdir()
+    for side in ("above", "left"):
+        sphere_png(tmp_path / "rug" / f"rug_{side}.png")
+    sphere_png(tmp_path / "rug_albedo.png")
+    before = {path: path.read_bytes() for path in tmp_path.rglob("*") if path.is_file()}
+    run = batch(tmp_path, tmp_path)
+    assert run.returncode == 2, run.stdout + run.stderr
+    assert "the outputs of rug/ would replace rug_albedo.png" in run.stderr and "Traceback" not in run.stderr
+    assert {path: path.read_bytes() for path in tmp_path.rglob("*") if path.is_file()} == before
+
+
+def test_out_dir_inside_in_dir_is_not_read_as_a_set(tmp_path):
+    """batch.py D D/out twice: the second run finds the first's outputs in D/out, a subfolder of
+    images, and must not reconstruct them as photographs of one subject."""
+    sphere_png(tmp_path / "x.png")
+    for _ in range(2):
+        run = batch(tmp_path, tmp_path / "out")
+        assert run.returncode == 0, run.stdout + run.stderr
+    assert "skipped out/: it is OUT_DIR" in run.stdout and "1 of 1 image(s) done" in run.stdout
+    assert sorted(path.name for path in (tmp_path / "out").iterdir()) == ["x.ply", "x_height.exr", "x_normal.png"]

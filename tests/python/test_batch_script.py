@@ -123,3 +123,110 @@ def test_bad_mesh_flags_are_refused(tmp_path):
     run = batch(tmp_path, tmp_path / "out", "--max-vertices", "9", "--full-mesh")
     assert run.returncode == 2 and "not allowed with" in run.stderr
     assert not (tmp_path / "out").exists()
+
+
+SIDES = ("above", "below", "left", "right")
+# One step of a 16-bit normal-map channel is 2/65535 of a unit component, 0.00175 degrees: four
+# noiseless Lambertian photographs fix every normal, so what is left is the rounding of the 16-bit
+# photographs and of the normal map (measured: mean 0.0009, max 0.0025 degrees; 64 px bumps, patches).
+NORMAL_STEP_DEGREES = np.degrees(2 / 65535)
+
+
+def painted_bumps(folder, names_and_lights, size=64):
+    """The bump field (synthetic.bumps) painted in colour patches and photographed under each light,
+    as 16-bit PNGs without alpha (a subject that fills the frame); the true normals and paint."""
+    folder.mkdir(parents=True)
+    for name, light in names_and_lights:
+        scene = synthetic.bumps(light=light, size=size)
+        colour, paint = synthetic.painted(scene, "patches", seed=3)
+        shadecut.save_image(folder / name, colour)
+    return scene.normals, paint
+
+
+def normal_map(path):
+    """The unit normals a 16-bit normal map's colours hold (0.5 n + 0.5)."""
+    colours, _ = read_image_channels(path)
+    normals = 2.0 * colours - 1.0
+    return normals / np.linalg.norm(normals, axis=2, keepdims=True)
+
+
+def test_a_subfolder_of_photographs_named_by_their_light_gives_true_normals_and_the_paint(tmp_path):
+    """rug/rug_above.png ... rug_right.png: one set, its lights the sides the names end with
+    (shadecut.light_from_side); the normal map is the truth to within the 16-bit rounding, and
+    rug_albedo.png (sRGB, alpha = mask) holds the paint without any of the shading."""
+    in_dir = tmp_path / "in"
+    photographs = [(f"rug_{side}.png", shadecut.light_from_side(side)) for side in SIDES]
+    truth, paint = painted_bumps(in_dir / "rug", photographs)
+    run = batch(in_dir, tmp_path / "out")
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "0 image(s) and 1 set(s) of photographs in" in run.stdout
+    (line,) = [line for line in run.stdout.splitlines() if line.startswith("[1/1] rug/: ")]
+    assert ("4 photographs, subject relief (auto: no alpha, it fills the frame), lights from the names" in line
+            and "-> rug_height.exr, rug_normal.png, rug_albedo.png, rug.ply (4,096 vertices, one every 1 px)" in line)
+    assert sorted(path.name for path in (tmp_path / "out").iterdir()) == [
+        "rug.ply", "rug_albedo.png", "rug_height.exr", "rug_normal.png"]
+
+    error = shadecut.angular_error_map(normal_map(tmp_path / "out" / "rug_normal.png"), truth)
+    assert error.mean() < NORMAL_STEP_DEGREES and error.max() < 4 * NORMAL_STEP_DEGREES, (error.mean(), error.max())
+    albedo = shadecut.load_image(tmp_path / "out" / "rug_albedo.png")
+    assert albedo.color_space == "srgb" and albedo.has_alpha and albedo.mask.all()
+    np.testing.assert_allclose(albedo.colour, paint, atol=1e-4)  # a few 16-bit steps
+    depth, mask = height_exr(tmp_path / "out" / "rug_height.exr")
+    assert mask.all() and np.ptp(depth) > 1.0
+
+
+def test_a_set_takes_its_lights_from_lights_txt(tmp_path):
+    """Photographs named without a side: lights.txt gives each its light, as a direction (any length)
+    or a side; comments and blank lines are left out."""
+    lights = {"shot 1.png": (0.0, 2.0, 2.0), "shot 2.png": (-1.0, 0.0, 1.0), "shot 3.png": "below",
+              "shot 4.png": "right"}
+    directions = [shadecut.light_from_side(light) if isinstance(light, str) else light for light in lights.values()]
+    truth, _ = painted_bumps(tmp_path / "in" / "plaster", zip(lights, directions))
+    (tmp_path / "in" / "plaster" / "lights.txt").write_text(
+        "# file, then x y z toward the lamp or a side\n\n"
+        + "".join(f"{name} {light if isinstance(light, str) else ' '.join(map(str, light))}\n"
+                  for name, light in lights.items()))
+    run = batch(tmp_path / "in", tmp_path / "out")
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "[1/1] plaster/: " in run.stdout and "lights from lights.txt" in run.stdout
+    assert "skipped" not in run.stdout  # lights.txt is the set's own file
+    error = shadecut.angular_error_map(normal_map(tmp_path / "out" / "plaster_normal.png"), truth)
+    assert error.mean() < NORMAL_STEP_DEGREES and error.max() < 4 * NORMAL_STEP_DEGREES, (error.mean(), error.max())
+
+
+def test_a_set_without_its_lights_is_named_and_the_rest_is_still_done(tmp_path):
+    """Each bad set gets an error line saying what is missing, nothing is written for it, the flat
+    image beside them is done and the exit code is 1."""
+    in_dir = tmp_path / "in"
+    side_lights = [(f"rug_{side}.png", shadecut.light_from_side(side)) for side in SIDES[:3]]
+    painted_bumps(in_dir / "rug", side_lights + [("rug_3.png", shadecut.light_from_side("right"))])
+    painted_bumps(in_dir / "none", [(f"n_{k}.png", shadecut.light_from_side(side)) for k, side in enumerate(SIDES)])
+    painted_bumps(in_dir / "one", side_lights[:1])
+    painted_bumps(in_dir / "typo", side_lights[:2])
+    (in_dir / "typo" / "lights.txt").write_text("rug_above.png above\nrug_below.png 0 -1\n")
+    sphere_png(in_dir / "ball.png", (1.0, 0.0, 1.0))
+    run = batch(in_dir, tmp_path / "out")
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert "Traceback" not in run.stderr
+    assert "[1/5] ball.png: " in run.stdout and "1 of 5 image(s) and set(s) done" in run.stdout
+    assert ("[2/5] none/: error: no light for any photograph: name each <name>_<side>" in run.stderr
+            and "or list them in lights.txt; the lights of several photographs are not estimated" in run.stderr)
+    assert "[3/5] one/: error: one photograph (rug_above.png): a set needs two or more" in run.stderr
+    assert ("[4/5] rug/: error: no light for rug_3.png: name it rug_3_<side>.png (a side: top, bottom, "
+            in run.stderr and "or list it in lights.txt" in run.stderr)
+    assert "[5/5] typo/: error: lights.txt line 2: 'rug_below.png 0 -1' is neither 'file x y z' nor 'file side'" \
+        in run.stderr
+    assert sorted(path.name for path in (tmp_path / "out").iterdir()) == [
+        "ball.ply", "ball_height.exr", "ball_normal.png"]
+
+
+def test_photographs_of_different_sizes_get_the_librarys_error(tmp_path):
+    in_dir = tmp_path / "in"
+    painted_bumps(in_dir / "mixed", [("m_above.png", shadecut.light_from_side("above"))], size=64)
+    scene = synthetic.bumps(light=shadecut.light_from_side("left"), size=48)
+    shadecut.save_image(in_dir / "mixed" / "m_left.png", scene.image)
+    run = batch(in_dir, tmp_path / "out")
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert ("[1/1] mixed/: error: photograph 2 is 48 x 48 pixels but the first is 64 x 64; several photographs "
+            "must be of one view, all of one size") in run.stderr
+    assert list((tmp_path / "out").iterdir()) == []
