@@ -66,6 +66,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import os
+import re
 import sys
 import time
 from dataclasses import dataclass
@@ -372,6 +373,22 @@ def set_lights(photo_set: PhotographSet) -> tuple[list[np.ndarray], str]:
     return [shadecut.light_from_side(side) for side in sides], "the names"
 
 
+@contextlib.contextmanager
+def photographs_named(photographs: list[Path]):
+    """The library's ValueErrors with each "photograph N" they speak of followed by its file's name:
+    it counts the photographs of the list it was given, here the set's in name order."""
+    def named(match: re.Match) -> str:
+        number = int(match.group(1))
+        if not 0 < number <= len(photographs):
+            return match.group(0)
+        return f"{match.group(0)} ({photographs[number - 1].name})"
+
+    try:
+        yield
+    except ValueError as error:
+        raise ValueError(re.sub(r"\bphotograph (\d+)\b", named, str(error))) from error
+
+
 def reconstruct_set(photo_set: PhotographSet, args: argparse.Namespace) -> tuple[object, str, str]:
     """The reconstruction of a set's photographs under their lights (set_lights), the mask opaque in
     every one, in colour when all are; what its line says of it and a note on its working size."""
@@ -381,15 +398,16 @@ def reconstruct_set(photo_set: PhotographSet, args: argparse.Namespace) -> tuple
                          "view, each under another light (a single image goes in IN_DIR itself)")
     lights, origin = set_lights(photo_set)
     loaded = [shadecut.load_image(path) for path in photo_set.photographs]
-    if len({photograph.mask.shape for photograph in loaded}) > 1:  # reconstruct() refuses them, saying which
-        shadecut.reconstruct([photograph.image for photograph in loaded], lights)
-    mask = np.logical_and.reduce([photograph.mask for photograph in loaded])
-    scene, reason = subject(any(photograph.has_alpha for photograph in loaded), mask, args.scene)
-    in_colour = all(photograph.colour is not None for photograph in loaded)
-    working = [working_pixels(photograph.colour if in_colour else photograph.image, mask, args.max_size)
-               for photograph in loaded]
-    result = shadecut.reconstruct([pixels for pixels, _, _ in working], lights, working[0][1],
-                                  progress=_progress, scene=scene)
+    with photographs_named(photo_set.photographs):
+        if len({photograph.mask.shape for photograph in loaded}) > 1:  # reconstruct() refuses them, saying which
+            shadecut.reconstruct([photograph.image for photograph in loaded], lights)
+        mask = np.logical_and.reduce([photograph.mask for photograph in loaded])
+        scene, reason = subject(any(photograph.has_alpha for photograph in loaded), mask, args.scene)
+        in_colour = all(photograph.colour is not None for photograph in loaded)
+        working = [working_pixels(photograph.colour if in_colour else photograph.image, mask, args.max_size)
+                   for photograph in loaded]
+        result = shadecut.reconstruct([pixels for pixels, _, _ in working], lights, working[0][1],
+                                      progress=_progress, scene=scene)
     return (result, f"{count} photographs, subject {scene} ({reason}), lights from {origin}, "
                     f"albedo {result.albedo:.3f}", shrunk_note(working[0][2], mask))
 

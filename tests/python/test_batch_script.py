@@ -221,12 +221,13 @@ def test_a_set_without_its_lights_is_named_and_the_rest_is_still_done(tmp_path):
 
 
 def test_photographs_of_different_sizes_get_the_librarys_error(tmp_path):
+    """The library counts the photographs of its list; the line names the file it means."""
     in_dir = tmp_path / "in"
     painted_bumps(in_dir / "mixed", [("m_above.png", shadecut.light_from_side("above"))], size=64)
     scene = synthetic.bumps(light=shadecut.light_from_side("left"), size=48)
     shadecut.save_image(in_dir / "mixed" / "m_left.png", scene.image)
     run = batch(in_dir, tmp_path / "out")
     assert run.returncode == 1, run.stdout + run.stderr
-    assert ("[1/1] mixed/: error: photograph 2 is 48 x 48 pixels but the first is 64 x 64; several photographs "
-            "must be of one view, all of one size") in run.stderr
+    assert ("[1/1] mixed/: error: photograph 2 (m_left.png) is 48 x 48 pixels but the first is 64 x 64; several "
+            "photographs must be of one view, all of one size") in run.stderr  # the library's, the file named
     assert list((tmp_path / "out").iterdir()) == []
