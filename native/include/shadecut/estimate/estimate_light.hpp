@@ -24,11 +24,10 @@ enum class LightMethod {
   /// attached shadow: E1 = 2 rho ((pi - s) cos s + sin s) / (3 pi), E2 = rho^2 (1 + cos s)^2 / 8.
   ZhengChellappa,
   /// "relief": for a surface that fills the frame and on average faces the viewer, whose normals are
-  /// nothing like a sphere's. Tilt: the direction along which the smoothed image's derivative is most
-  /// negatively skewed (a material's narrow grooves: lit wall, then at once the dark one), which
-  /// paint does not skew; slant from S_z = median / brightest (99.5th percentile) intensity, at most
-  /// 45 degrees unless the albedo is given; albedo = median / S_z; its uncertainty the tilt's scatter
-  /// over the image's quadrants. Details in src/estimate/estimate_relief_light.hpp.
+  /// nothing like a sphere's. Tilt axis from the image's spectrum (the one along which the image
+  /// integrates to the least relief), the light from above (S_y >= 0: shading cannot tell a relief lit
+  /// from one side from its inverse lit from the other), slant from S_z = median / brightest
+  /// (99.5th percentile) intensity; albedo = median / S_z. Details in src/estimate_relief_light.hpp.
   Relief,
   /// "contour": for an object seen whole against a background, whose outline is an occluding
   /// contour (its normals there point outward in the image plane): the brightness along a ring just
@@ -61,8 +60,7 @@ struct LightEstimate {
   double slant = 0.0;     ///< radians, the angle between the light and the viewing direction
   double tilt = 0.0;      ///< radians, atan2(S_y, S_x); 0 when the image has no gradient at all
   /// radians: how far the light may be off, where the estimator can say (contour: its fit's misfit
-  /// as an angle of the light; relief: its tilt's scatter over the image's quadrants); NaN where it
-  /// cannot.
+  /// as an angle of the light); NaN where it cannot.
   double uncertainty = std::numeric_limits<double>::quiet_NaN();
 };
 
