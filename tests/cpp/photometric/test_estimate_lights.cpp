@@ -21,7 +21,7 @@ TEST(EstimatePhotometricLights, FourLightsAroundASphereAtOneSlant) {
   const auto images = testing::photographs(scene, lights, testing::painted_albedo(128, 128));
   LightHint hint;
   hint.slant = 40.0;
-  const LightEstimate estimate = estimate_photometric_lights(images, scene.mask, hint);
+  const PhotometricLights estimate = estimate_photometric_lights(images, scene.mask, hint);
   for (Eigen::Index k = 0; k < 4; ++k)
     EXPECT_LT(degrees(estimate.lights.row(k).transpose(), lights.row(k).transpose()), 2.0)
         << "light " << k << ": " << estimate.lights.row(k) << " uncertainty " << estimate.uncertainty[std::size_t(k)];
@@ -36,7 +36,7 @@ TEST(EstimatePhotometricLights, UnevenTiltsComeFromThePhotographsTheSlantFromThe
   const auto images = testing::photographs(scene, lights, testing::painted_albedo(128, 128));
   LightHint hint;
   hint.slant = 45.0;  // ten degrees off
-  const LightEstimate estimate = estimate_photometric_lights(images, scene.mask, hint);
+  const PhotometricLights estimate = estimate_photometric_lights(images, scene.mask, hint);
   for (Eigen::Index k = 0; k < 5; ++k) {
     const Eigen::Vector3d found = estimate.lights.row(k).transpose();
     const double tilt = std::atan2(found.y(), found.x()) * 180.0 / M_PI;

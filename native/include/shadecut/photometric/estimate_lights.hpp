@@ -2,6 +2,7 @@
 #pragma once
 
 #include <shadecut/photometric/photometric_stereo.hpp>
+#include <shadecut/support/light.hpp>
 #include <shadecut/support/types.hpp>
 
 #include <vector>
@@ -14,16 +15,16 @@ struct LightHint {
   /// one height, the usual multi-angle capture). Required: without it the generalized bas-relief
   /// ambiguity stays open.
   bool same_slant = true;
-  /// Their slant, degrees from the viewing direction, (0, 90). Integrability and equal slants leave
-  /// the surface's depth scale open (the bas-relief's flattening turns every light's slant alike);
-  /// this settles it, as well as the user knows it.
-  double slant = 45.0;
+  /// Their slant, degrees from the viewing direction, (0, 90); by default a side's light's. The
+  /// photographs leave the surface's depth scale open (the bas-relief's flattening turns every
+  /// light's slant alike); this settles it, as well as the user knows it.
+  double slant = kSideLightSlantDegrees;
   /// The image-plane direction the first photograph's light comes from, about (degrees, from +x
   /// toward +y: 90 = the top, 0 = the right); within 90 degrees of it settles the convex / concave flip.
   double first_tilt = 90.0;
 };
 
-struct LightEstimate {
+struct PhotometricLights {
   LightDirections lights;            ///< K x 3 unit directions toward the lights, camera frame
   std::vector<double> uncertainty;   ///< per light, degrees: the largest angle to the lights of the
                                      ///< ambiguity's members that fit the hint nearly as well
@@ -45,6 +46,6 @@ struct LightEstimate {
 /// @throws InvalidArgument for fewer than four photographs, images of different sizes, too few
 ///         pixels lit in every photograph (fewer than 100 with their four neighbours), or a hint
 ///         without same_slant or with a slant outside (0, 90).
-LightEstimate estimate_photometric_lights(const std::vector<ImageF>& images, const Mask& mask, const LightHint& hint = {});
+PhotometricLights estimate_photometric_lights(const std::vector<ImageF>& images, const Mask& mask, const LightHint& hint = {});
 
 }  // namespace shadecut
