@@ -188,8 +188,10 @@ def reconstruct(
             the side of the image it comes from ("top", "left", ...: :func:`light_from_side`); with
             several photographs, K such directions or sides, one per photograph, in order.
             None = estimated from the image by the ``light_method`` option (see :func:`estimate_light`),
-            and then also the albedo unless given; ``stats.light_estimated`` says so (one photograph
-            only: several need their lights).
+            and then also the albedo unless given; ``stats.light_estimated`` says so. Several
+            photographs: four or more lit from around at one slant give their lights, with the hint
+            in the options ``light_slant`` and ``first_light_tilt`` (docs/method.md, "Lights of
+            several photographs").
         mask: (H, W) bool pixels to reconstruct; None = every pixel.
         albedo: > 0; None = estimated with the light, or with a given light by the ``albedo_method``
             option (:func:`estimate_albedo`); with several photographs, per pixel from them.

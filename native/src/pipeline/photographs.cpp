@@ -3,6 +3,7 @@
 #include <shadecut/integrate/surface_from_normals.hpp>
 #include <shadecut/photometric/choose_candidates.hpp>
 #include <shadecut/photometric/colour_albedo.hpp>
+#include <shadecut/photometric/estimate_lights.hpp>
 #include <shadecut/photometric/photometric_stereo.hpp>
 #include <shadecut/pipeline/relief.hpp>
 #include <shadecut/support/errors.hpp>
@@ -36,10 +37,10 @@ void check_photographs(const std::vector<Observation>& photographs, const Mask* 
                             " but the first is not; give all in colour or all grey");
     if (photograph.image.minCoeff() < 0.0f)
       throw InvalidArgument("shadecut: " + photograph_name(k) + " has negative intensities; linear intensity is >= 0");
-    if (!photograph.light)
-      throw InvalidArgument("shadecut: the light of " + photograph_name(k) +
-                            " is not given; with several photographs every light must be given (estimating them is "
-                            "not supported yet)");
+    if (photograph.light.has_value() != first.light.has_value())
+      throw InvalidArgument("shadecut: the light of " + photograph_name(photograph.light ? 0 : k) +
+                            " is not given but others are; give every photograph's light, or none to have them "
+                            "estimated");
   }
   if (mask) check_mask(*mask, first.image);
 }
@@ -100,6 +101,31 @@ NormalMap photographs_normals(const std::vector<Observation>& photographs, const
   return normals;
 }
 
+// The photographs' lights, normalized: given, or estimated from them (estimate_photometric_lights)
+// with the options' hint, the stats saying so.
+std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& photographs, const Mask& mask,
+                                                const ReconstructOptions& options, const Progress& progress,
+                                                ReconstructStats& stats) {
+  std::vector<Eigen::Vector3d> lights;
+  if (photographs.front().light) {
+    for (const Observation& photograph : photographs) lights.push_back(photograph.light->normalized());
+    return lights;
+  }
+  progress.report(0.0, "light");
+  const Stopwatch stage;
+  std::vector<ImageF> images;
+  for (const Observation& photograph : photographs) images.push_back(photograph.image);
+  LightHint hint;
+  hint.slant = options.light_slant;
+  hint.first_tilt = options.first_light_tilt;
+  const PhotometricLights estimate = estimate_photometric_lights(images, mask, hint);
+  stats.seconds["light"] = stage.seconds();
+  stats.light_estimated = true;
+  stats.light_uncertainty = *std::max_element(estimate.uncertainty.begin(), estimate.uncertainty.end());
+  for (Eigen::Index k = 0; k < estimate.lights.rows(); ++k) lights.push_back(estimate.lights.row(k).transpose());
+  return lights;
+}
+
 }  // namespace
 
 Reconstruction reconstruct_photographs(const std::vector<Observation>& photographs, const Mask* mask_in,
@@ -114,7 +140,7 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   const ThreadCountScope threads(options.threads);
   Reconstruction result;
   result.mask = mask;
-  for (const Observation& photograph : photographs) result.lights.push_back(photograph.light->normalized());
+  result.lights = photographs_lights(photographs, mask, options, progress, result.stats);
   result.light = result.lights.front();
   result.stats.photographs = int(photographs.size());
   LightDirections directions(Eigen::Index(photographs.size()), 3);

@@ -73,8 +73,25 @@ TEST(Observations, FourPhotographsGiveTheNormals) {
   EXPECT_LT(mean_angular_error(result.normals, scene.normals, erode_mask(scene.mask, 2)), 1.0);
   EXPECT_EQ(result.stats.photographs, 4);
   EXPECT_EQ(result.lights.size(), 4u);
-  photographs[2].light.reset();
+  photographs[2].light.reset();  // one light missing while the others are given: refused, not guessed
   EXPECT_THROW(reconstruct(photographs, &scene.mask, std::nullopt, ReconstructOptions{}), InvalidArgument);
+}
+
+// Without any light, four photographs lit from around give their lights at the hint's slant.
+TEST(Observations, FourPhotographsWithoutLightsGiveTheirLights) {
+  const testing::Scene scene = testing::sphere_scene(96, 0.45, Eigen::Vector3d(0, 0, 1));
+  const std::vector<Eigen::Vector3d> lights{Eigen::Vector3d(0, 0.64, 0.77), Eigen::Vector3d(-0.64, 0, 0.77),
+                                            Eigen::Vector3d(0, -0.64, 0.77), Eigen::Vector3d(0.64, 0, 0.77)};
+  std::vector<Observation> photographs;
+  for (const Eigen::Vector3d& light : lights)
+    photographs.push_back(grey_observation(render_lambertian(scene.normals, light, 0.8, scene.mask), std::nullopt));
+  ReconstructOptions options;
+  options.light_slant = std::acos(0.77 / Eigen::Vector2d(0.64, 0.77).norm()) * 180.0 / M_PI;
+  const Reconstruction result = reconstruct(photographs, &scene.mask, std::nullopt, options);
+  EXPECT_TRUE(result.stats.light_estimated);
+  for (std::size_t k = 0; k < lights.size(); ++k)
+    EXPECT_GT(result.lights[k].dot(lights[k].normalized()), std::cos(0.5 * M_PI / 180.0)) << "light " << k;
+  EXPECT_LT(mean_angular_error(result.normals, scene.normals, erode_mask(scene.mask, 2)), 1.0);
 }
 
 }  // namespace

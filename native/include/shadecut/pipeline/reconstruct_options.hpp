@@ -7,6 +7,7 @@
 #include <shadecut/estimate/estimate_light.hpp>
 #include <shadecut/integrate/integrate.hpp>
 #include <shadecut/photometric/choose_candidates.hpp>
+#include <shadecut/photometric/estimate_lights.hpp>
 #include <shadecut/photometric/photometric_stereo.hpp>
 #include <shadecut/pipeline/method.hpp>
 #include <shadecut/pipeline/scene_kind.hpp>
@@ -80,10 +81,13 @@ struct ReconstructOptions {
   double photometric_shadow_fraction = PhotometricStereoParams{}.shadow_fraction;
   double photometric_outlier_tolerance = PhotometricStereoParams{}.outlier_tolerance;
   double candidate_smoothness = CandidateCutParams{}.smoothness;
+  double light_slant = LightHint{}.slant;
+  double first_light_tilt = LightHint{}.first_tilt;
   // Runtime
   int threads = 0;
   /// Told the fraction of the call done and the stage: "cut_out", "light" (estimating it), "local", "energy",
-  /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading". Returning false cancels.
+  /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading"; with several photographs
+  /// also "photometric stereo" and "candidate cut". Returning false cancels.
   ProgressCallback progress;
 };
 
