@@ -145,9 +145,9 @@ Arguments parse_arguments(const std::vector<std::string>& args) {
   }
   if (arguments.help) return arguments;
   if (arguments.image_paths.empty()) throw UsageError("no image given");
-  if (arguments.image_paths.size() > 1 && arguments.lights.size() != arguments.image_paths.size())
+  if (arguments.image_paths.size() > 1 && !arguments.lights.empty() && arguments.lights.size() != arguments.image_paths.size())
     throw UsageError(std::to_string(arguments.image_paths.size()) + " photographs but " + std::to_string(arguments.lights.size()) +
-                     " --light; give one --light per photograph, in their order");
+                     " --light; give one --light per photograph, in their order, or none to have them estimated");
   if (arguments.image_paths.size() == 1 && arguments.lights.size() > 1)
     throw UsageError("one photograph but " + std::to_string(arguments.lights.size()) + " --light");
   return arguments;
@@ -169,11 +169,12 @@ std::string side_names_text() {
 std::string usage() {
   std::ostringstream text;
   text << R"(usage: shadecut IMAGE [--light X,Y,Z] [options]
-       shadecut IMAGE1 IMAGE2 ... --light X,Y,Z --light X,Y,Z ... [options]
+       shadecut IMAGE1 IMAGE2 ... [--light X,Y,Z --light X,Y,Z ...] [options]
 
 Reconstructs a surface from one shaded image (shape from shading using graph cuts), or from several
 photographs of one view each under its own light (photometric stereo, with the graph cut where two
-photographs leave two normals; one --light per photograph, in their order), and writes
+photographs leave two normals; one --light per photograph, in their order, or none: four or more
+photographs lit from around at one slant, --light-slant, give their lights), and writes
 depth.exr, depth.png, normals.exr, normals.png, mesh.ply and the albedo per pixel, albedo.exr and
 albedo.png (in colour for a colour image), to the output folder.
 
@@ -184,7 +185,7 @@ the mask. A flag's value may follow it or be attached with '=' (--labels=24).
 input and output:
   --light X,Y,Z        light direction in the camera frame (Z > 0); without it the light (and,
                        unless --albedo is given, the albedo) is estimated from the image; with
-                       several photographs, once for each
+                       several photographs, once for each or never
   --light SIDE         a light from that side of the image at )" << kSideLightSlantDegrees << R"( degrees from the viewer (a light
                        nobody measured; its slant scales the depth), SIDE one of
                        )" << side_names_text() << R"(

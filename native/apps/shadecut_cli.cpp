@@ -170,11 +170,25 @@ std::string ratio_text(double inverted, double kept) {
   return text.str();
 }
 
+// How the light was estimated, " (estimated by zheng_chellappa)", or "" when given; with several
+// photographs, every light found.
+std::string estimated_text(const shadecut::cli::Arguments& arguments, const shadecut::Reconstruction& result) {
+  if (!result.stats.light_estimated) return "";
+  if (result.stats.photographs == 1)
+    return " (estimated by " + shadecut::to_string(shadecut::light_method_used(arguments.options)) + ")";
+  std::ostringstream text;
+  text << " (estimated from the photographs at " << arguments.options.light_slant << " degrees from the viewer, their turn "
+       << "about it within " << result.stats.light_uncertainty << " degrees; the others ";
+  for (std::size_t k = 1; k < result.lights.size(); ++k)
+    text << (k > 1 ? "; " : "") << result.lights[k].x() << "," << result.lights[k].y() << "," << result.lights[k].z();
+  text << ")";
+  return text.str();
+}
+
 void print_summary(const shadecut::cli::Arguments& arguments, const shadecut::Reconstruction& result) {
   const Eigen::Vector3d& used = result.light;
   const shadecut::ReconstructStats& stats = result.stats;
-  std::cout << "light " << used.x() << "," << used.y() << "," << used.z()
-            << (stats.light_estimated ? " (estimated by " + shadecut::to_string(shadecut::light_method_used(arguments.options)) + ")" : "")
+  std::cout << "light " << used.x() << "," << used.y() << "," << used.z() << estimated_text(arguments, result)
             << (stats.photographs > 1 ? " and " + std::to_string(stats.photographs - 1) + " more (" +
                                             std::to_string(stats.pair_pixels) + " pixels lit in two photographs chosen by the graph cut, " +
                                             std::to_string(stats.single_pixels + stats.dark_pixels) + " in fewer filled)"

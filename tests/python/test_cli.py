@@ -257,6 +257,11 @@ def test_several_photographs_each_with_its_light(tmp_path):
     assert scene.mean_error(np.asarray(normals.colour)) < 2.0
     short = run(*paths, "--light", lights[0], "--out", tmp_path / "short", "--quiet")
     assert short.returncode == 2 and "4 photographs but 1 --light" in short.stderr
+    estimated = run(*paths, "--light-slant", "39.7", "--out", tmp_path / "estimated", "--quiet")
+    assert estimated.returncode == 0, estimated.stderr
+    assert "estimated from the photographs at 39.7 degrees from the viewer" in estimated.stdout
+    normals = shadecut.load_image(tmp_path / "estimated" / "normals.exr")
+    assert scene.mean_error(np.asarray(normals.colour)) < 2.0
 
 
 def test_lights_named_by_their_sides(tmp_path):
