@@ -5,7 +5,8 @@ alone (the mean over the set) and, for the materials, a flat normal map.
     PYTHONPATH=addon /usr/bin/python3 scripts/measure_photometric.py [DATA_FOLDER] [--rug-figure PNG]
 
 - DiLiGenT (DATA_FOLDER/diligent): 2, 4, 8 and all 19 of an object's photographs with their
-  calibrated lights; one photograph is graphcut with its light. Mean angular error in degrees over the
+  calibrated lights; one photograph is graphcut with its light. Then 4 and 8 with the lights
+  estimated from them (the default hint), beside what lights at one slant can do at best. Mean angular error in degrees over the
   mask eroded by 2 pixels, as every evaluation measures.
 - The scanned materials (DATA_FOLDER/materials): each measured normal map rendered Lambertian
   (albedo x max(0, n . S)) under 4 and 8 lights at slant 40 degrees around the viewer, without and
@@ -53,6 +54,33 @@ def diligent_row(folder: Path, set_name: str, images) -> str:
     return (f"| {folder.name[:-3]} | {label} | {shadecut.angular_error(ours.normals, loaded.normals, inner):.2f} | "
             f"{shadecut.angular_error(least_squares, loaded.normals, inner):.2f} | {single:.2f} | "
             f"{ours.stats.pair_pixels / loaded.mask.sum():.1%} | {seconds:.2f} |")
+
+
+def at_one_slant(lights: np.ndarray, slant_degrees: float) -> np.ndarray:
+    """The lights' own azimuths, every one at ``slant_degrees`` from the viewer."""
+    azimuth, slant = np.arctan2(lights[:, 1], lights[:, 0]), np.radians(slant_degrees)
+    return np.stack([np.sin(slant) * np.cos(azimuth), np.sin(slant) * np.sin(azimuth),
+                     np.full(len(lights), np.cos(slant))], axis=1)
+
+
+def estimated_row(folder: Path, set_name: str, images) -> str:
+    """The lights estimated from the photographs (default hint) against the calibrated ones and the
+    hint's own limit: the true lights' azimuths at the hint's slant, and at their own mean slant."""
+    loaded = diligent.load_object(folder, images=images)
+    inner = shadecut.erode_mask(loaded.mask, 2)
+    truth = loaded.lights / np.linalg.norm(loaded.lights, axis=1, keepdims=True)
+
+    def error(lights) -> float:
+        return shadecut.angular_error(shadecut.reconstruct(loaded.photos, lights, loaded.mask).normals, loaded.normals, inner)
+
+    estimated, seconds = timed(loaded.photos, None, loaded.mask)
+    light_errors = np.degrees(np.arccos(np.clip(np.sum(estimated.lights * truth, axis=1), -1.0, 1.0)))
+    hint = shadecut.ReconstructOptions().light_slant
+    mean_slant = float(np.degrees(np.arccos(truth[:, 2])).mean())
+    return (f"| {folder.name[:-3]} | {set_label(set_name, images, len(loaded.photos))} | {error(loaded.lights):.2f} | "
+            f"{shadecut.angular_error(estimated.normals, loaded.normals, inner):.2f} | {error(at_one_slant(truth, hint)):.2f} | "
+            f"{error(at_one_slant(truth, mean_slant)):.2f} ({mean_slant:.1f}°) | {np.median(light_errors):.1f} | "
+            f"{estimated.stats.light_uncertainty:.1f} | {seconds:.2f} |")
 
 
 def single_photograph_error(material: materials.Material, photographs: list, lights: np.ndarray) -> float:
@@ -118,6 +146,13 @@ def main() -> int:
         if (data / "diligent" / f"{name}PNG").is_dir():
             for set_name, images in PHOTOGRAPH_SETS.items():
                 print(diligent_row(data / "diligent" / f"{name}PNG", set_name, images), flush=True)
+    print("\n| object | photographs | calibrated lights | lights estimated | true azimuths at the hint's slant | "
+          "true azimuths at their mean slant | light error (median) | uncertainty | seconds |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name in ("ball", "cat", "reading"):
+        if (data / "diligent" / f"{name}PNG").is_dir():
+            for set_name in ("four", "eight"):
+                print(estimated_row(data / "diligent" / f"{name}PNG", set_name, PHOTOGRAPH_SETS[set_name]), flush=True)
     if not (data / "materials").is_dir():
         return 0
     print("\n| material | half | photographs | ShadeCut | plain least squares | one photograph (mean) | "
