@@ -101,15 +101,24 @@ def test_lights_named_by_their_sides_are_those_directions():
 FELT_RUG = DATA / "multi_angle" / "felt_rug"
 
 
+RUG_SIDES = ["above", "below", "left", "right"]
+
+
 @pytest.mark.skipif(not FELT_RUG.is_dir(), reason=f"the felt rug's photographs are not in {FELT_RUG}")
-def test_the_felt_rugs_pebbles_are_domes_and_its_albedo_carries_no_shading():
+@pytest.mark.parametrize("lights", [
+    RUG_SIDES,
+    pytest.param(None, marks=pytest.mark.xfail(strict=True, reason=(
+        "measured: with the lights estimated 5 of 11 pebbles stand above their rims; the lights come out at "
+        "azimuths 135, 95, -42, -157 degrees instead of 90, -90, 180, 0 (uncertainty 24 degrees): the felt's "
+        "real photographs do not give the rank-3 factorization of a Lambertian surface; why is not yet known"))),
+])
+def test_the_felt_rugs_pebbles_are_domes_and_its_albedo_carries_no_shading(lights):
     """Four real photographs, the lights known only by their sides (issue 45): every pebble stands
     above the crevice around it, and the de-lit colour does not follow any photograph's shading."""
     from scipy import ndimage
 
-    sides = ["above", "below", "left", "right"]
-    photographs = [shadecut.load_image(FELT_RUG / f"{side}.jpg") for side in sides]
-    result = shadecut.reconstruct([photo.colour for photo in photographs], sides, scene="relief")
+    photographs = [shadecut.load_image(FELT_RUG / f"{side}.jpg") for side in RUG_SIDES]
+    result = shadecut.reconstruct([photo.colour for photo in photographs], lights, scene="relief")
     # The pebbles: where the photographs' mean, smoothed to a pebble's texture, is above its median
     # (the crevices between them are dark under every light); each must be higher than its rim.
     mean = ndimage.gaussian_filter(np.mean([photo.image for photo in photographs], axis=0), 3)
