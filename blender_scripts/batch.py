@@ -32,8 +32,10 @@ lines starting with # are left out:
                       rug_2.jpg 0.7 0 0.7
 
 else from each file name's last _-separated word when it is such a side (rug/rug_above.jpg,
-rug/rug_left.jpg, ...). They are never estimated: a set whose lights are not all given, or with one
-photograph, gets an error line saying what is missing. Subfolders without an image, hidden ones and
+rug/rug_left.jpg, ...); a set of four or more photographs that names none has them estimated from
+the photographs (lit from around the subject at one slant, the library's default hint). A set with
+some lights given and others not, or with fewer than four and none given, or with one photograph,
+gets an error line saying what is missing. Subfolders without an image, hidden ones and
 OUT_DIR are skipped; a set's own subfolders are not entered.
 
 The subject (the add-on's Subject) is, by default (--scene auto), chosen for each image from its
@@ -345,10 +347,10 @@ def listed_lights(path: Path) -> dict[str, np.ndarray]:
     return lights
 
 
-def set_lights(photo_set: PhotographSet) -> tuple[list[np.ndarray], str]:
+def set_lights(photo_set: PhotographSet) -> tuple[list[np.ndarray] | None, str]:
     """One light per photograph of the set, in order, and where they come from: its lights.txt, else
-    the side each file name ends with. ValueError saying what is missing: the lights of several
-    photographs are never estimated."""
+    the side each file name ends with, else (none named) None: estimated from the photographs.
+    ValueError saying what is missing."""
     names = [path.name for path in photo_set.photographs]
     listed = photo_set.folder / LIGHTS_FILE
     if listed.is_file():
@@ -364,9 +366,7 @@ def set_lights(photo_set: PhotographSet) -> tuple[list[np.ndarray], str]:
     sides = [side_in_name(path) for path in photo_set.photographs]
     missing = [path for path, side in zip(photo_set.photographs, sides) if side is None]
     if len(missing) == len(names):
-        raise ValueError(f"no light for any photograph: name each <name>_<side> (a side: {SIDES}), e.g. "
-                         f"{missing[0].stem}_top{missing[0].suffix}, or list them in {LIGHTS_FILE}; the lights "
-                         "of several photographs are not estimated")
+        return None, "the photographs (estimated)"  # the library refuses fewer than it can read them from
     if missing:
         raise ValueError(f"no light for {', '.join(path.name for path in missing)}: name it "
                          f"{missing[0].stem}_<side>{missing[0].suffix} (a side: {SIDES}) or list it in {LIGHTS_FILE}")
