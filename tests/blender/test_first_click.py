@@ -219,8 +219,11 @@ def test_the_research_settings_are_in_a_closed_advanced_sub_panel(factory_scene,
     assert RESEARCH_SETTINGS <= set(advanced)
     main = set()
     light_sources = [item.identifier for item in settings.bl_rna.properties["light_source"].enum_items]
-    for scene_kind, light_source in itertools.product(("object", "relief"), light_sources):
+    for scene_kind, light_source, rows in itertools.product(("object", "relief"), light_sources, (0, 4)):
         settings.scene, settings.light_source, settings.frame = scene_kind, light_source, "CAMERA"
+        settings.photographs.clear()  # with several photographs, Estimate shows its hint
+        for _ in range(rows):
+            settings.photographs.add()
         drawn = drawn_settings(panels.draw_reconstruct_settings, settings)
         assert drawn[0] == "scene"  # what the image shows comes first
         main |= set(drawn)

@@ -14,7 +14,7 @@ import pytest
 import shadecut
 from shadecut import synthetic
 from shadecut.blender import reconstruct_job, reconstruct_operator
-from shadecut.blender.light_input import UNPICKED_SIDE, side_in_file_name
+from shadecut.blender.light_input import UNPICKED_SIDE, side_in_file_name, side_tilt
 from shadecut.blender.result import NORMAL_NODE, NORMAL_TEXTURE
 from test_addon import add_sun, pixels_of, scene_state
 from test_addon_errors import Reports
@@ -211,7 +211,8 @@ def _bad_setup(case, sphere_photographs):
         rows[3].direction = rows[0].direction
     elif case == "below the horizon":
         rows[2].direction = (0.3, 0.2, -1.0)
-    elif case == "estimate":
+    elif case == "estimate with three":
+        rows.remove(3)
         settings.light_source = "ESTIMATE"
     elif case == "no image":
         rows.add()
@@ -241,7 +242,10 @@ def _bad_setup(case, sphere_photographs):
     ("same sun", "both have Sun 'Sun 0': a second photograph under the same light adds nothing"),
     ("same light", "adds nothing"),
     ("below the horizon", "The light of photograph 3 ('sphere_2.png') (0.3, 0.2, -1) cannot be used"),
-    ("estimate", "Light is Estimate, which reads one photograph"),
+    ("estimate with three", "Light is Estimate, which finds the lights of 4 or more photographs lit from around the "
+                            "subject; 3 photographs need their lights: set Light to Sun (one per photograph), "
+                            "Direction (typed in each row) or Side of the image (picked in each row), or add "
+                            "photographs to have 4 or more"),
     ("no image", "Photograph 5 has no image"),
     ("same side", "Photograph 1 ('sphere_0.png') and photograph 4 ('sphere_3.png') are both lit from the left: "
                   "a second photograph under the same light adds nothing"),
@@ -318,6 +322,67 @@ def test_colour_photographs_give_their_de_lit_colour_as_base_color(addon, tmp_pa
     albedo = pixels_of(base_colour.image).reshape(SIZE, SIZE, 4)[::-1, :, :3]
     # 16-bit files round each value to 1 part in 65535 (sRGB-coded): the paint comes back to 1e-3.
     assert np.abs(albedo[shadecut.erode_mask(scene.mask, 2)] - paint).max() < 1e-3
+
+
+# How far from the viewer AROUND's lights stand (all alike): the Light slant the estimate is told.
+AROUND_SLANT = float(np.degrees(np.arccos(AROUND[0, 2] / np.linalg.norm(AROUND[0]))))
+
+
+def with_estimated_lights(sphere_photographs, first_light_side="top"):
+    """The four photographs in the list with Light left at Estimate (their file names name no side),
+    the hint their renders' slant and the side the first is lit from; the settings."""
+    _, directory, names = sphere_photographs
+    assert add_photographs(directory, names) == {"FINISHED"}
+    settings = bpy.context.scene.shadecut
+    assert settings.light_source == "ESTIMATE"
+    settings.light_slant, settings.first_light_side = AROUND_SLANT, first_light_side
+    return settings
+
+
+def test_four_photographs_with_estimate_find_their_lights_and_the_true_normals(addon, sphere_photographs):
+    truth = sphere_photographs[0]
+    with_estimated_lights(sphere_photographs)
+    objects_before = set(bpy.data.objects)
+    job = reconstruct_job.prepare_job(bpy.context)
+    assert job.light is None and job.options["first_light_tilt"] == 90.0  # the first render is lit from the top
+    job.run()
+    operator = Reports()
+    assert reconstruct_job.finish_job(operator, bpy.context, job) == {"FINISHED"}
+    assert len(set(bpy.data.objects) - objects_before) == 1
+    # Four exact Lambertian renders (16-bit rounding only) at the slant told, the first lit from the
+    # side told: nothing is left to guess, so the lights found are the true ones, to a tenth of a degree ...
+    true_lights = AROUND / np.linalg.norm(AROUND, axis=1, keepdims=True)
+    off = np.degrees(np.arccos(np.clip(np.sum(job.result.lights * true_lights, axis=1), -1.0, 1.0)))
+    assert job.result.stats.light_estimated and off.max() < 0.1
+    # ... and then the normals as the typed lights give them: within that test's bound of 1 degree.
+    assert truth.mean_error(decoded_normal_map(bpy.context.active_object)) < 1.0
+    found = "; ".join(", ".join(f"{v:.3f}" for v in light) for light in job.result.lights)
+    assert (f"4 photographs under lights estimated from them ({found}) at {AROUND_SLANT:.4g} degrees from the viewer "
+            "(Light slant, which the depth's scale follows), their turn about the viewer uncertain by "
+            f"{job.result.stats.light_uncertainty:.1f} degrees") in operator.last[1]
+
+
+def test_the_first_lights_side_tells_a_bump_from_a_dent(addon, sphere_photographs):
+    """Told the first photograph was lit from the bottom, the estimate takes every light the other way
+    round: the sphere comes out as its inverse, far from the truth."""
+    truth = sphere_photographs[0]
+    with_estimated_lights(sphere_photographs, first_light_side="bottom")
+    job = reconstruct_job.prepare_job(bpy.context)
+    job.run()
+    assert job.result.lights[0][1] < 0 < AROUND[0][1]
+    assert truth.mean_error(job.result.normals) > 45.0
+
+
+@pytest.mark.parametrize("side, tilt", [("right", 0.0), ("top", 90.0), ("above", 90.0), ("left", 180.0),
+                                        ("bottom", -90.0), ("top-left", 135.0), ("bottom-right", -45.0)])
+def test_a_side_is_its_tilt_in_the_image(side, tilt):
+    assert side_tilt(side) == pytest.approx(tilt)
+
+
+def test_the_hint_starts_at_the_librarys_defaults(addon):
+    settings = bpy.context.scene.shadecut
+    assert settings.light_slant == shadecut.ReconstructOptions().light_slant
+    assert side_tilt(settings.first_light_side) == pytest.approx(shadecut.ReconstructOptions().first_light_tilt)
 
 
 @pytest.mark.parametrize("file_name, side", [

@@ -5,6 +5,7 @@ Photographs."""
 
 from __future__ import annotations
 
+import math
 import os
 import re
 from typing import Optional
@@ -19,6 +20,9 @@ from .wording import sentence_start, short_number
 
 # A photograph row whose file name named no side: its side is for the user to pick.
 UNPICKED_SIDE = "UNPICKED"
+# The fewest photographs whose lights the library estimates (several photographs, Light = Estimate);
+# the library exports no constant for it, so the panel can refuse before any work.
+FEWEST_FOR_ESTIMATED_LIGHTS = 4
 # A side word of the library standing whole between separators; the longest first, so that
 # "rug-top-left" reads 'top-left', not 'top'.
 _SIDE_WORD = re.compile("(?<![a-z0-9])(" + "|".join(re.escape(side) for side in
@@ -57,6 +61,13 @@ def side_light(side: str, named: str, why: str = "") -> np.ndarray:
     if side == UNPICKED_SIDE:
         raise InputError(f"{named} has no side of the image for its light{why}: pick the side the light came from")
     return api.light_from_side(side)
+
+
+def side_tilt(side: str) -> float:
+    """The direction in the image plane, degrees (0 = from the right, 90 = from the top), of the light
+    from ``side``: the library's first_light_tilt for a first photograph lit from that side."""
+    light = api.light_from_side(side)
+    return math.degrees(math.atan2(light[1], light[0]))
 
 
 def sun_light(context, settings, sun: bpy.types.Object) -> np.ndarray:
@@ -137,13 +148,9 @@ def photograph_suns(context, rows) -> tuple[list[bpy.types.Object], str]:
 
 def photograph_lights(context, settings, rows) -> tuple[Optional[np.ndarray], str]:
     """The unit light of each photograph row (K x 3, camera frame) and how the finish report names
-    them; None (estimate) for one photograph with Light set to Estimate, which several cannot use."""
+    them; None (estimate) with Light set to Estimate, for one photograph or for enough to find theirs."""
     if settings.light_source == "ESTIMATE":
-        if len(rows) == 1:
-            return None, "estimated light"
-        raise InputError(f"Light is Estimate, which reads one photograph; {len(rows)} photographs need their "
-                         "lights: set Light to Sun (one per photograph), Direction (typed in each row) or Side of "
-                         "the image (picked in each row)")
+        return None, _estimated_origin(len(rows))
     if settings.light_source == "SIDE":
         return photograph_sides(rows), side_origin([row.side for row in rows])
     if settings.light_source == "DIRECTION":
@@ -153,3 +160,16 @@ def photograph_lights(context, settings, rows) -> tuple[Optional[np.ndarray], st
         raw = [sun_light(context, settings, sun) for sun in suns]
     lights = [unit_light(light, f"The light of {photograph_name(rows, index)}") for index, light in enumerate(raw)]
     return np.array(lights), origin
+
+
+def _estimated_origin(count: int) -> str:
+    """How the finish report names the estimated light of ``count`` photographs; InputError for
+    too few to estimate the lights of several."""
+    if count == 1:
+        return "estimated light"
+    if count < FEWEST_FOR_ESTIMATED_LIGHTS:
+        raise InputError(f"Light is Estimate, which finds the lights of {FEWEST_FOR_ESTIMATED_LIGHTS} or more "
+                         f"photographs lit from around the subject; {count} photographs need their lights: set Light "
+                         "to Sun (one per photograph), Direction (typed in each row) or Side of the image (picked in "
+                         f"each row), or add photographs to have {FEWEST_FOR_ESTIMATED_LIGHTS} or more")
+    return "estimated lights"

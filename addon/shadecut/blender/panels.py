@@ -8,6 +8,7 @@ import bpy
 
 from . import lambertian, light_preview
 from .flip_operator import SHADECUT_OT_flip
+from .light_input import FEWEST_FOR_ESTIMATED_LIGHTS
 from .photographs_operator import SHADECUT_OT_photographs_add, SHADECUT_OT_photographs_remove
 from .reconstruct_operator import SHADECUT_OT_reconstruct
 from .render_operator import SHADECUT_OT_render_lambertian
@@ -47,8 +48,15 @@ def _draw_photographs(column, settings) -> None:
     buttons = row.column(align=True)
     buttons.operator(SHADECUT_OT_photographs_add.bl_idname, text="", icon="ADD")
     buttons.operator(SHADECUT_OT_photographs_remove.bl_idname, text="", icon="REMOVE")
-    if len(settings.photographs) > 1 and settings.light_source == "ESTIMATE":
-        column.label(text="Several photographs: set Light to Sun, Direction or Side", icon="ERROR")
+
+
+def _draw_estimated_lights_hint(column, settings) -> None:
+    """Light Estimate with several photographs: the hint the library finds their lights with, and
+    a warning while there are too few for it."""
+    column.prop(settings, "light_slant")
+    column.prop(settings, "first_light_side")
+    if len(settings.photographs) < FEWEST_FOR_ESTIMATED_LIGHTS:
+        column.label(text=f"Estimate needs {FEWEST_FOR_ESTIMATED_LIGHTS} or more photographs", icon="ERROR")
 
 
 def draw_reconstruct_settings(layout, settings) -> None:
@@ -85,6 +93,8 @@ def draw_reconstruct_settings(layout, settings) -> None:
         column.prop(settings, "light_direction")
     elif settings.light_source == "SIDE" and not several:
         column.prop(settings, "light_side")
+    elif settings.light_source == "ESTIMATE" and len(settings.photographs) > 1:  # one is the single image's
+        _draw_estimated_lights_hint(column, settings)
     if not several:
         light_preview.draw(column, bpy.context, settings)
 

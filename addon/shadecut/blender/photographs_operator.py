@@ -1,8 +1,8 @@
 """The panel's Photographs list: several photographs of one view, each under its own light. "Add"
 loads the files picked in the file browser (several at once; none picked: every image of the
 folder, in name order), one row each; a file name that names a side of the image gives its row that
-side, and when every row has one, Light becomes Side of the image. "Remove" takes the active row out
-of the list (its image stays in the .blend)."""
+side, and when every row has one, Light becomes Side of the image (else Estimate, with four or more,
+finds their lights). "Remove" takes the active row out of the list (its image stays in the .blend)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import os
 import bpy
 
 from .image_input import InputError, load_file
-from .light_input import UNPICKED_SIDE
+from .light_input import FEWEST_FOR_ESTIMATED_LIGHTS, UNPICKED_SIDE
 
 
 def _image_files_in(directory: str) -> list[str]:
@@ -28,6 +28,9 @@ def _light_wording(settings) -> str:
     what is left to do."""
     sides = [row.side for row in settings.photographs]
     if UNPICKED_SIDE in sides:
+        if settings.light_source == "ESTIMATE" and len(sides) >= FEWEST_FOR_ESTIMATED_LIGHTS:
+            return ("Light is Estimate: Reconstruct finds their lights (set Light slant and First light from), "
+                    "or give each its light (a Sun, a typed direction or a side of the image)")
         return "give each its light (a Sun, a typed direction or a side of the image), then Reconstruct"
     settings.light_source = "SIDE"
     return (f"lit from the sides their file names name ({', '.join(sides)}): Light set to Side of the image. "

@@ -8,7 +8,7 @@ import bpy
 from ..api import (LIGHT_SIDES, MAX_VERTICES, SIDE_LIGHT_SLANT_DEGREES, AlbedoMethod, Integrator, ReconstructOptions,
                    SceneKind, option_fields)
 from . import lambertian
-from .light_input import UNPICKED_SIDE, side_of_image
+from .light_input import UNPICKED_SIDE, side_of_image, side_tilt
 from .preferences import METHOD_ITEMS
 
 # The library's defaults and ranges, held once in C++ (its option table); the panel starts from them.
@@ -64,16 +64,23 @@ def _is_sun(_settings, ob) -> bool:
 DEFAULT_DIRECTION = (1.0, 0.0, 1.0)
 
 
-def _side_item(side: str) -> tuple[str, str, str]:
-    """The Side menu's item of one of the library's sides ('above' and 'below' are 'top' and 'bottom')."""
+def _side_item(side: str, slant: str = f", {SIDE_LIGHT_SLANT_DEGREES:g} degrees from the viewer"
+               ) -> tuple[str, str, str]:
+    """The Side menu's item of one of the library's sides ('above' and 'below' are 'top' and 'bottom'),
+    lit at ``slant`` (as the description ends)."""
     same = {"above": "top", "below": "bottom"}.get(side)
     where = f"{side}: the {same} of the image (the same light)" if same else f"the {side} of the image"
-    return side, side.capitalize(), f"Lit from {where}, {SIDE_LIGHT_SLANT_DEGREES:g} degrees from the viewer"
+    return side, side.capitalize(), f"Lit from {where}{slant}"
 
 
 # The library's sides of the image, each a light at its one slant; first, none picked yet.
 SIDE_ITEMS = ((UNPICKED_SIDE, "Pick a side", "No side picked yet: pick the side of the image the light came from"),
               *(_side_item(side) for side in LIGHT_SIDES))
+# The side the first of several photographs is lit from when their lights are estimated, at Light slant.
+FIRST_LIGHT_ITEMS = tuple(_side_item(side, " (at Light slant)") for side in LIGHT_SIDES)
+# The side nearest the library's default first_light_tilt (top for 90 degrees).
+FIRST_LIGHT_DEFAULT = min(LIGHT_SIDES, key=lambda side: abs((side_tilt(side) - DEFAULTS.first_light_tilt + 180) % 360
+                                                            - 180))
 SIDE_DESCRIPTION = (f"The side of the image the light came from, at {SIDE_LIGHT_SLANT_DEGREES:g} degrees from the "
                     "viewer (an unmeasured lamp: that slant only scales the depth)")
 
@@ -178,6 +185,17 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     )
     light_side: bpy.props.EnumProperty(name="Side", items=SIDE_ITEMS, default=UNPICKED_SIDE,
                                        description=SIDE_DESCRIPTION)
+    light_slant: bpy.props.FloatProperty(
+        name="Light slant", default=DEFAULTS.light_slant, **option_bounds("light_slant"),
+        description="Several photographs with Light Estimate: how many degrees from the viewer their lamp stood, "
+                    "about the same for each (strictly between 0 and 90). The photographs fix where around the "
+                    "viewer each light was; this slant only scales the depth",
+    )
+    first_light_side: bpy.props.EnumProperty(
+        name="First light", items=FIRST_LIGHT_ITEMS, default=FIRST_LIGHT_DEFAULT,
+        description="Several photographs with Light Estimate: the side of the image the first photograph in the "
+                    "list is lit from, give or take 90 degrees; it tells a bump from a dent",
+    )
     frame: bpy.props.EnumProperty(
         name="Seen from",
         items=(

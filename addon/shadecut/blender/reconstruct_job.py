@@ -17,11 +17,11 @@ from .. import api
 from .flip_operator import RESULT_PROPERTY, report_orientation
 from .image_input import (InputError, image_orientation, image_pixels, image_to_reconstruct, picked_mask,
                           read_photographs, show_mask)
-from .light_input import photograph_lights, side_light, side_origin, sun_light, unit_light
+from .light_input import photograph_lights, side_light, side_origin, side_tilt, sun_light, unit_light
 from .preferences import addon_preferences
 from .mesh import MeshError
 from .result import TargetError, apply_maps, check_collection, check_target, limited_depth_scale, result_object
-from .wording import with_article
+from .wording import short_number, with_article
 
 # Below this the image is black for the method: it needs shading to read slants from.
 DARK_LIMIT = 1e-4
@@ -61,6 +61,8 @@ class Job:
     def run(self) -> None:
         try:
             image = self.image if self.colour is None else self.colour
+            if self.image.ndim == 3:  # several photographs: as a list, which needs no lights to be read as such
+                image = list(image)
             self.result = api.reconstruct(image, self.light, self.mask, self.albedo,
                                           progress=self.progress, **self.options)
         except BaseException as error:  # handed to the main thread, which reports it
@@ -255,8 +257,9 @@ def _job(context, settings, source: bpy.types.Image, image: np.ndarray, colour: 
     options = dict(scene=settings.scene, method=method, labels=settings.labels, data_weight=settings.data_weight,
                    integrator=settings.integrator, fit_shading=settings.fit_shading, seamless=seamless,
                    albedo_method=settings.albedo_method, detail_size=settings.detail_size,
+                   light_slant=settings.light_slant, first_light_tilt=side_tilt(settings.first_light_side),
                    threads=preferences.threads if preferences else 0)
-    several = light is not None and light.ndim == 2  # the albedo is then fitted per pixel
+    several = image.ndim == 3  # the albedo is then fitted per pixel
     return Job(
         name=Path(source.name).stem or source.name,
         image=image,
@@ -319,8 +322,21 @@ def _lights_used(job: Job) -> str:
     stats = job.result.stats
     if stats.photographs == 1:
         return f"{job.light_origin} ({', '.join(f'{v:.3f}' for v in job.result.light)})"
-    return (f"{stats.photographs} photographs under {job.light_origin} ({stats.pair_pixels:,} pixels lit in only two "
+    origin = _estimated_lights(job) if stats.light_estimated else job.light_origin
+    return (f"{stats.photographs} photographs under {origin} ({stats.pair_pixels:,} pixels lit in only two "
             f"of them, {stats.single_pixels + stats.dark_pixels:,} in fewer: filled from around)")
+
+
+def _estimated_lights(job: Job) -> str:
+    """What the finish report says of the lights the library found for several photographs: each
+    direction, the slant they were found at (Light slant, which the depth's scale follows) and how far
+    their turn about the viewer is uncertain."""
+    stats = job.result.stats
+    found = "; ".join(", ".join(f"{v:.3f}" for v in light) for light in job.result.lights)
+    uncertain = (f", their turn about the viewer uncertain by {stats.light_uncertainty:.1f} degrees"
+                 if np.isfinite(stats.light_uncertainty) else "")
+    return (f"lights estimated from them ({found}) at {short_number(job.options['light_slant'])} degrees from the "
+            f"viewer (Light slant, which the depth's scale follows){uncertain}")
 
 
 def report_albedo(operator, result) -> None:
