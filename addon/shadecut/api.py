@@ -149,6 +149,9 @@ LIGHT_SIDES: tuple = tuple(_core.LIGHT_SIDES)
 SIDE_LIGHT_SLANT_DEGREES: float = _core.SIDE_LIGHT_SLANT_DEGREES
 """The slant from the viewer of a light named only by its side (docs/conventions.md, "Light")."""
 
+FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS: int = _core.FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS
+"""The fewest photographs ``reconstruct`` finds the lights of when given none."""
+
 
 def light_from_side(side: str, slant_degrees: float = SIDE_LIGHT_SLANT_DEGREES) -> np.ndarray:
     """The unit direction (3,) toward a light from the image's ``side`` (one of :data:`LIGHT_SIDES`:

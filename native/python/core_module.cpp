@@ -76,6 +76,7 @@ void bind_light_and_albedo(py::module_& m) {
   });
   m.attr("LIGHT_SIDES") = shadecut::light_side_names();
   m.attr("SIDE_LIGHT_SLANT_DEGREES") = shadecut::kSideLightSlantDegrees;
+  m.attr("FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS") = shadecut::kFewestPhotographsToEstimateLights;
 
   m.def("estimate_reflectance", [](const FloatArray& image, const std::optional<BoolArray>& mask,
                                    const shadecut::ReconstructOptions& options, const std::optional<FloatArray>& shading) {

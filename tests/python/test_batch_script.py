@@ -222,7 +222,7 @@ def test_a_set_without_its_lights_is_named_and_the_rest_is_still_done(tmp_path):
     assert run.returncode == 1, run.stdout + run.stderr
     assert "Traceback" not in run.stderr
     assert "[1/5] ball.png: " in run.stdout and "1 of 5 image(s) and set(s) done" in run.stdout
-    assert "[2/5] none/: error: estimating the lights needs four or more photographs, got 3" in run.stderr
+    assert "[2/5] none/: error: estimating the lights needs 4 or more photographs, got 3" in run.stderr
     assert "[3/5] one/: error: one photograph (rug_above.png): a set needs two or more" in run.stderr
     assert ("[4/5] rug/: error: no light for rug_3.png: name it rug_3_<side>.png (a side: top, bottom, "
             in run.stderr and "or list it in lights.txt" in run.stderr)

@@ -69,7 +69,7 @@ def test_pixels_dark_in_every_photograph_are_filled_not_refused():
         (lambda images, lights: (images, lights[:3]), "4 photographs but 3 lights"),
         (lambda images, lights: (images, np.vstack([lights[:3], lights[:1]])), "photograph 4 adds nothing to photograph 1"),
         (lambda images, lights: (images, np.vstack([lights[:3], [[0.3, 0.2, -1.0]]])), r"horizon.*\(the light of photograph 4\)"),
-        (lambda images, lights: (images[:3], None), "estimating the lights needs four or more photographs, got 3"),
+        (lambda images, lights: (images[:3], None), "estimating the lights needs 4 or more photographs, got 3"),
     ],
 )
 def test_bad_photographs_are_refused_with_a_message(change, message):

@@ -20,9 +20,6 @@ from .wording import sentence_start, short_number
 
 # A photograph row whose file name named no side: its side is for the user to pick.
 UNPICKED_SIDE = "UNPICKED"
-# The fewest photographs whose lights the library estimates (several photographs, Light = Estimate);
-# the library exports no constant for it, so the panel can refuse before any work.
-FEWEST_FOR_ESTIMATED_LIGHTS = 4
 # A side word of the library standing whole between separators; the longest first, so that
 # "rug-top-left" reads 'top-left', not 'top'.
 _SIDE_WORD = re.compile("(?<![a-z0-9])(" + "|".join(re.escape(side) for side in
@@ -167,9 +164,9 @@ def _estimated_origin(count: int) -> str:
     too few to estimate the lights of several."""
     if count == 1:
         return "estimated light"
-    if count < FEWEST_FOR_ESTIMATED_LIGHTS:
-        raise InputError(f"Light is Estimate, which finds the lights of {FEWEST_FOR_ESTIMATED_LIGHTS} or more "
+    if count < api.FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS:
+        raise InputError(f"Light is Estimate, which finds the lights of {api.FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS} or more "
                          f"photographs lit from around the subject; {count} photographs need their lights: set Light "
                          "to Sun (one per photograph), Direction (typed in each row) or Side of the image (picked in "
-                         f"each row), or add photographs to have {FEWEST_FOR_ESTIMATED_LIGHTS} or more")
+                         f"each row), or add photographs to have {api.FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS} or more")
     return "estimated lights"

@@ -6,9 +6,9 @@ import textwrap
 
 import bpy
 
+from .. import api
 from . import lambertian, light_preview
 from .flip_operator import SHADECUT_OT_flip
-from .light_input import FEWEST_FOR_ESTIMATED_LIGHTS
 from .photographs_operator import SHADECUT_OT_photographs_add, SHADECUT_OT_photographs_remove
 from .reconstruct_operator import SHADECUT_OT_reconstruct
 from .render_operator import SHADECUT_OT_render_lambertian
@@ -55,8 +55,8 @@ def _draw_estimated_lights_hint(column, settings) -> None:
     a warning while there are too few for it."""
     column.prop(settings, "light_slant")
     column.prop(settings, "first_light_side")
-    if len(settings.photographs) < FEWEST_FOR_ESTIMATED_LIGHTS:
-        column.label(text=f"Estimate needs {FEWEST_FOR_ESTIMATED_LIGHTS} or more photographs", icon="ERROR")
+    if len(settings.photographs) < api.FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS:
+        column.label(text=f"Estimate needs {api.FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS} or more photographs", icon="ERROR")
 
 
 def draw_reconstruct_settings(layout, settings) -> None:

@@ -10,8 +10,9 @@ import os
 
 import bpy
 
+from .. import api
 from .image_input import InputError, load_file
-from .light_input import FEWEST_FOR_ESTIMATED_LIGHTS, UNPICKED_SIDE
+from .light_input import UNPICKED_SIDE
 
 
 def _image_files_in(directory: str) -> list[str]:
@@ -28,7 +29,7 @@ def _light_wording(settings) -> str:
     what is left to do."""
     sides = [row.side for row in settings.photographs]
     if UNPICKED_SIDE in sides:
-        if settings.light_source == "ESTIMATE" and len(sides) >= FEWEST_FOR_ESTIMATED_LIGHTS:
+        if settings.light_source == "ESTIMATE" and len(sides) >= api.FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS:
             return ("Light is Estimate: Reconstruct finds their lights (set Light slant and First light from), "
                     "or give each its light (a Sun, a typed direction or a side of the image)")
         return "give each its light (a Sun, a typed direction or a side of the image), then Reconstruct"

@@ -321,10 +321,15 @@ def _lights_used(job: Job) -> str:
     lights' origin and how many pixels fewer than three of them lit."""
     stats = job.result.stats
     if stats.photographs == 1:
-        return f"{job.light_origin} ({', '.join(f'{v:.3f}' for v in job.result.light)})"
+        return f"{job.light_origin} ({_direction_text(job.result.light)})"
     origin = _estimated_lights(job) if stats.light_estimated else job.light_origin
     return (f"{stats.photographs} photographs under {origin} ({stats.pair_pixels:,} pixels lit in only two "
             f"of them, {stats.single_pixels + stats.dark_pixels:,} in fewer: filled from around)")
+
+
+def _direction_text(direction) -> str:
+    """"0.639, 0.000, 0.769": three decimals, a component that rounds to zero without its sign."""
+    return ", ".join(f"{round(float(v), 3) + 0.0:.3f}" for v in direction)
 
 
 def _estimated_lights(job: Job) -> str:
@@ -332,7 +337,7 @@ def _estimated_lights(job: Job) -> str:
     direction, the slant they were found at (Light slant, which the depth's scale follows) and how far
     their turn about the viewer is uncertain."""
     stats = job.result.stats
-    found = "; ".join(", ".join(f"{v:.3f}" for v in light) for light in job.result.lights)
+    found = "; ".join(_direction_text(light) for light in job.result.lights)
     uncertain = (f", their turn about the viewer uncertain by {stats.light_uncertainty:.1f} degrees"
                  if np.isfinite(stats.light_uncertainty) else "")
     return (f"lights estimated from them ({found}) at {short_number(job.options['light_slant'])} degrees from the "

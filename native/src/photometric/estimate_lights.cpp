@@ -37,8 +37,9 @@ constexpr std::size_t kCurlSample = std::size_t(1) << 16;
 constexpr double kNearlyAsWell = 1.05;
 
 void check_inputs(const std::vector<ImageF>& images, const Mask& mask, const LightHint& hint) {
-  if (images.size() < 4)
-    throw InvalidArgument("shadecut: estimating the lights needs four or more photographs, got " + std::to_string(images.size()));
+  if (images.size() < std::size_t(kFewestPhotographsToEstimateLights))
+    throw InvalidArgument("shadecut: estimating the lights needs " + std::to_string(kFewestPhotographsToEstimateLights) +
+                          " or more photographs, got " + std::to_string(images.size()));
   if (!(hint.slant > 0.0 && hint.slant < 90.0))
     throw InvalidArgument("shadecut: the hint's slant must lie in (0, 90) degrees, got " + number_text(hint.slant));
   if (!std::isfinite(hint.first_tilt))

@@ -24,6 +24,10 @@ struct LightHint {
   double first_tilt = 90.0;
 };
 
+/// The fewest photographs whose lights can be estimated: three leave the factorization no equation
+/// beyond its own rank.
+constexpr int kFewestPhotographsToEstimateLights = 4;
+
 struct PhotometricLights {
   LightDirections lights;            ///< K x 3 unit directions toward the lights, camera frame
   std::vector<double> uncertainty;   ///< per light, degrees: the largest angle to the lights of the
