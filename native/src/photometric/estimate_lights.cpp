@@ -133,7 +133,9 @@ Eigen::MatrixXd lights_at(const Eigen::VectorXd& azimuths, double slant) {
   return lights;
 }
 
-double wrapped(double angle) { return std::remainder(angle, 2.0 * M_PI); }
+// The angle in [-pi, pi). By floor, not std::remainder, whose glibc 2.43 symbol version would keep
+// a module built on a newer system from loading into an older Blender (compatibility.OLDEST_GLIBC).
+double wrapped(double angle) { return angle - 2.0 * M_PI * std::floor((angle + M_PI) / (2.0 * M_PI)); }
 
 // How far lights at the hint's slant and the given azimuths (the first at 0) are from the row space
 // of S_hat, and from an even spread around the viewer in the row space's order.
