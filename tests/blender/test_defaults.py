@@ -4,6 +4,7 @@ import bpy
 import pytest
 
 import shadecut
+from shadecut import synthetic
 from shadecut.blender.preferences import ShadeCutPreferences
 from shadecut.blender.properties import ShadeCutReconstructSettings
 
@@ -70,3 +71,22 @@ def test_the_first_click_needs_nothing_from_the_scene(settings):
     """Add-on defaults: the light is estimated (the factory scene has no Sun) and the subject is an object."""
     assert settings.light_source == "ESTIMATE"
     assert settings.light_object is None
+
+
+@pytest.mark.parametrize("beyond", [0.0, -5.0, 90.0, 120.0])
+def test_light_slant_is_held_strictly_inside_the_range_the_library_takes(settings, beyond):
+    """The table's light_slant is open at both ends, (0, 90): set at or past an end, the setting clamps
+    to a value inside, which the library's option check takes (a single photograph with its light
+    reads the option without estimating lights from it)."""
+    field = {field["name"]: field for field in shadecut.option_fields()}["light_slant"]
+    assert field["low_open"] and field["high_open"]
+    settings.light_slant = beyond
+    assert field["low"] < settings.light_slant < field["high"]
+    hard = property_of(ShadeCutReconstructSettings, "light_slant")
+    assert settings.light_slant == (hard.hard_min if beyond < 45.0 else hard.hard_max)
+    sphere = synthetic.sphere((0.0, 0.0, 1.0), size=16)
+    result = shadecut.reconstruct(sphere.image, (0.0, 0.0, 1.0), sphere.mask, light_slant=settings.light_slant)
+    assert result.mask.any()
+    with pytest.raises(ValueError, match="light_slant must be in"):
+        shadecut.reconstruct(sphere.image, (0.0, 0.0, 1.0), sphere.mask, light_slant=field["low"] if beyond < 45.0
+                             else field["high"])

@@ -4,6 +4,7 @@ and ``scene.shadecut_render`` (the Lambertian test render)."""
 from __future__ import annotations
 
 import bpy
+import numpy as np
 
 from ..api import (LIGHT_SIDES, MAX_VERTICES, SIDE_LIGHT_SLANT_DEGREES, AlbedoMethod, Integrator, ReconstructOptions,
                    SceneKind, option_fields)
@@ -17,15 +18,27 @@ OPTION_FIELDS = {field["name"]: field for field in option_fields()}
 
 
 def option_bounds(name: str) -> dict:
-    """The hard min and max of the option's table range, as property keywords."""
+    """The hard min and max of the option's table range, as property keywords; an open end (the
+    library refuses the bound itself) is brought inside, so that the slider's end is a value it takes."""
     field = OPTION_FIELDS[name]
-    number = int if field["kind"] == "whole" else float
+    whole = field["kind"] == "whole"
     bounds = {}
     if field["low"] is not None:
-        bounds["min"] = number(field["low"])
+        bounds["min"] = _held_inside(field["low"], field["low_open"], +1, whole)
     if field["high"] is not None:
-        bounds["max"] = number(field["high"])
+        bounds["max"] = _held_inside(field["high"], field["high_open"], -1, whole)
     return bounds
+
+
+def _held_inside(bound: float, is_open: bool, inward: int, whole: bool):
+    """``bound``, or for an open one the nearest value inside that the property holds: a whole number
+    one step in, a float the next 32-bit float in (Blender stores FloatProperty values and limits in
+    32 bits, so the next 64-bit one would round back onto the bound)."""
+    if whole:
+        return int(bound) + (inward if is_open else 0)
+    if not is_open:
+        return float(bound)
+    return float(np.nextafter(np.float32(bound), np.float32(np.inf * inward)))
 
 INTEGRATOR_DESCRIPTIONS = {
     "poisson": ("Poisson", "Joins the slopes inside the mask only (least squares)"),
