@@ -31,17 +31,18 @@ std::vector<ImageF> luminances(const std::vector<ColourImage>& photographs) {
 // photograph k's channel ch, grey[k] its luminance. `usable` and `ratio` are buffers.
 template <int Channels, class Channel>
 Eigen::Matrix<float, Channels, 1> pixel_albedo(Channel channel, const std::vector<ImageF>& grey,
-                                               const std::vector<Eigen::Vector3d>& lights, const Eigen::Vector3d& normal,
+                                               const detail::PixelLights& lights, const Eigen::Vector3d& normal,
                                                const std::vector<Mask>& clipped, const PhotometricStereoParams& params,
                                                int r, int c, std::vector<int>& usable, std::vector<double>& ratio) {
   using Albedo = Eigen::Matrix<float, Channels, 1>;
   usable.clear();
   ratio.clear();
-  for (std::size_t k = 0; k < lights.size(); ++k) {
-    const double shade = normal.dot(lights[k]);
-    if ((!clipped.empty() && clipped[k](r, c)) || shade < params.shadow_fraction || !(shade > 0.0)) continue;
+  const std::vector<Eigen::Vector3d>& directions = lights.directions();
+  for (std::size_t k = 0; k < directions.size(); ++k) {
+    const double cosine = normal.dot(directions[k]);
+    if ((!clipped.empty() && clipped[k](r, c)) || cosine < params.shadow_fraction || !(cosine > 0.0)) continue;
     usable.push_back(int(k));
-    ratio.push_back(grey[k](r, c) / shade);
+    ratio.push_back(grey[k](r, c) / (cosine * lights.strength(k)));
   }
   if (usable.empty()) return Albedo::Zero();
   std::nth_element(ratio.begin(), ratio.begin() + std::ptrdiff_t(ratio.size() / 2), ratio.end());
@@ -49,7 +50,7 @@ Eigen::Matrix<float, Channels, 1> pixel_albedo(Channel channel, const std::vecto
   Eigen::Matrix<double, Channels, 1> numerator = Eigen::Matrix<double, Channels, 1>::Zero();
   double denominator = 0.0;
   for (const int k : usable) {
-    const double shade = normal.dot(lights[std::size_t(k)]);
+    const double shade = normal.dot(directions[std::size_t(k)]) * lights.strength(std::size_t(k));
     if (std::abs(grey[std::size_t(k)](r, c) - median * shade) > params.outlier_tolerance * median) continue;
     for (int ch = 0; ch < Channels; ++ch) numerator(ch) += channel(std::size_t(k), ch, r, c) * shade;
     denominator += shade * shade;
@@ -64,14 +65,17 @@ void fit_albedo(Channel channel, const std::vector<ImageF>& grey, const LightDir
   const std::vector<Eigen::Vector3d> unit = detail::checked_photometric_input(grey, lights, mask, clipped);
   check_normals(normals, int(mask.rows()), int(mask.cols()));
   const int rows = int(mask.rows()), cols = int(mask.cols());
+  detail::check_lamps(params.lamps, rows, cols);
   detail::parallel_ranges(rows, 8, params.threads, [&](int begin, int end) {
+    detail::PixelLights lights_here(unit, params.lamps);
     std::vector<int> usable;
     std::vector<double> ratio;
     for (int r = begin; r < end; ++r)
       for (int c = 0; c < cols; ++c) {
         const Eigen::Vector3d normal = normals.xyz.row(Eigen::Index(r) * cols + c).cast<double>().transpose();
         if (!mask(r, c) || normal.isZero()) continue;
-        store(r, c, pixel_albedo<Channels>(channel, grey, unit, normal, clipped, params, r, c, usable, ratio));
+        lights_here.at(r, c);
+        store(r, c, pixel_albedo<Channels>(channel, grey, lights_here, normal, clipped, params, r, c, usable, ratio));
       }
   });
 }

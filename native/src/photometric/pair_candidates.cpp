@@ -64,11 +64,14 @@ ImageF nearest_fitted_albedo(const PhotometricStereoResult& result, const Mask& 
 }
 
 // kTwoLightAlbedoQuantile of the smallest albedos of the pixels that have none yet.
-double uniform_pair_albedo(const std::vector<UsablePair>& pairs, const std::vector<Eigen::Vector3d>& lights,
-                           const ImageF& albedo) {
+double uniform_pair_albedo(const std::vector<UsablePair>& pairs, PixelLights& lights, const ImageF& albedo) {
+  const int cols = int(albedo.cols());
   std::vector<double> smallest;
-  for (std::size_t p = 0; p < pairs.size(); ++p)
-    if (pairs[p].a >= 0 && !(albedo.data()[p] > 0.0f)) smallest.push_back(smallest_albedo(pairs[p], lights));
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    if (pairs[p].a < 0 || albedo.data()[p] > 0.0f) continue;
+    lights.at(int(p) / cols, int(p) % cols);
+    smallest.push_back(smallest_albedo(pairs[p], lights.directions()));
+  }
   if (smallest.empty()) return 0.0;
   const std::size_t at = std::min(smallest.size() - 1, std::size_t(kTwoLightAlbedoQuantile * double(smallest.size())));
   std::nth_element(smallest.begin(), smallest.begin() + std::ptrdiff_t(at), smallest.end());
@@ -78,11 +81,12 @@ double uniform_pair_albedo(const std::vector<UsablePair>& pairs, const std::vect
 // The light `normal` would catch beyond what the photographs other than the pair's show, at pixel p.
 double shadow_conflict(const Eigen::Vector3d& normal, const UsablePair& pair, double albedo, std::size_t p,
                        const std::vector<ImageF>& images, const std::vector<Mask>& clipped,
-                       const std::vector<Eigen::Vector3d>& lights) {
+                       const PixelLights& lights) {
   double conflict = 0.0;
   for (std::size_t k = 0; k < images.size(); ++k) {
     if (int(k) == pair.a || int(k) == pair.b || (!clipped.empty() && clipped[k].data()[p])) continue;
-    conflict += std::max(0.0, normal.dot(lights[k]) - double(images[k].data()[p]) / albedo);
+    const double shade = double(images[k].data()[p]) / (lights.strength(k) * albedo);
+    conflict += std::max(0.0, normal.dot(lights.directions()[k]) - shade);
   }
   return conflict;
 }
@@ -90,7 +94,7 @@ double shadow_conflict(const Eigen::Vector3d& normal, const UsablePair& pair, do
 }  // namespace
 
 void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<ImageF>& images,
-                   const std::vector<Mask>& clipped, const std::vector<Eigen::Vector3d>& lights, const Mask& mask,
+                   const std::vector<Mask>& clipped, PixelLights& lights, const Mask& mask,
                    const PhotometricStereoParams& params, PhotometricStereoResult& result) {
   ImageF pair_albedo = params.albedo_map.size() > 0 ? params.albedo_map
                        : params.albedo > 0.0 ? ImageF(ImageF::Constant(mask.rows(), mask.cols(), float(params.albedo)))
@@ -100,8 +104,9 @@ void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<Image
     const UsablePair& pair = pairs[p];
     if (pair.a < 0) continue;
     const double rho = pair_albedo.data()[p] > 0.0f ? double(pair_albedo.data()[p]) : uniform;
-    const Eigen::Vector3d& a = lights[std::size_t(pair.a)];
-    const Eigen::Vector3d& b = lights[std::size_t(pair.b)];
+    lights.at(int(p) / int(mask.cols()), int(p) % int(mask.cols()));
+    const Eigen::Vector3d& a = lights.directions()[std::size_t(pair.a)];
+    const Eigen::Vector3d& b = lights.directions()[std::size_t(pair.b)];
     const Eigen::Vector3d in_plane = in_plane_part(a, b, pair.intensity_a / rho, pair.intensity_b / rho);
     const double out_of_plane_squared = 1.0 - in_plane.squaredNorm();
     // Across the lights' plane toward the viewer: `first` faces the viewer more than `second`.

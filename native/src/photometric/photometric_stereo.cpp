@@ -28,6 +28,7 @@ void check_params(const PhotometricStereoParams& params, const Mask& mask) {
     throw InvalidArgument("shadecut: outlier_tolerance must be > 0, got " + number_text(params.outlier_tolerance));
   if (!(params.albedo >= 0.0) || !std::isfinite(params.albedo))
     throw InvalidArgument("shadecut: the albedo must be >= 0 (0 = estimated), got " + number_text(params.albedo));
+  detail::check_lamps(params.lamps, int(mask.rows()), int(mask.cols()));
 }
 
 // The unit light directions; refuses lights below the horizon and pairs that add nothing.
@@ -120,7 +121,8 @@ void fit_pixels(const std::vector<ImageF>& images, const std::vector<Eigen::Vect
   for (int first = 0; first < rows; first += kBlockRows) {
     const int last = std::min(rows, first + kBlockRows);
     detail::parallel_ranges(last - first, 4, params.threads, [&](int begin, int end) {
-      detail::PixelFitter fitter(lights, params.shadow_fraction, params.outlier_tolerance);
+      detail::PixelLights pixel_lights(lights, params.lamps);
+      detail::PixelFitter fitter(pixel_lights, params.shadow_fraction, params.outlier_tolerance);
       for (int r = first + begin; r < first + end; ++r)
         for (int c = 0; c < cols; ++c)
           if (mask(r, c)) store_fit(fitter.fit(images, clipped, r, c), r, c, result, pairs);
@@ -147,7 +149,10 @@ PhotometricStereoResult photometric_stereo(const std::vector<ImageF>& images, co
     result.single_pixels += usable == 1;
     result.pair_pixels += usable == 2;
   }
-  if (result.pair_pixels > 0) detail::resolve_pairs(pairs, images, clipped, unit, mask, params, result);
+  if (result.pair_pixels > 0) {
+    detail::PixelLights pixel_lights(unit, params.lamps);
+    detail::resolve_pairs(pairs, images, clipped, pixel_lights, mask, params, result);
+  }
   return result;
 }
 

@@ -17,14 +17,14 @@ constexpr int kShadowPasses = 4;
 
 }  // namespace
 
-PixelFitter::PixelFitter(const std::vector<Eigen::Vector3d>& lights, double shadow_fraction, double outlier_tolerance)
+PixelFitter::PixelFitter(PixelLights& lights, double shadow_fraction, double outlier_tolerance)
     : lights_(lights),
       shadow_fraction_(shadow_fraction),
       outlier_tolerance_(outlier_tolerance),
-      intensity_(lights.size(), 0.0) {}
+      intensity_(lights.directions().size(), 0.0) {}
 
 const PixelFitter::SetInverse& PixelFitter::set_inverse(const std::vector<int>& set) {
-  const bool cached = lights_.size() <= 64;
+  const bool cached = !lights_.near() && lights_.directions().size() <= 64;
   std::uint64_t bits = 0;
   if (cached) {
     for (const int k : set) bits |= std::uint64_t(1) << k;
@@ -32,7 +32,7 @@ const PixelFitter::SetInverse& PixelFitter::set_inverse(const std::vector<int>& 
     if (found != inverses_.end()) return found->second;
   }
   Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
-  for (const int k : set) normal_matrix.noalias() += lights_[std::size_t(k)] * lights_[std::size_t(k)].transpose();
+  for (const int k : set) normal_matrix.noalias() += light(k) * light(k).transpose();
   SetInverse inverse;
   // det(L^T L) is the sum of the squared triple products of the set's lights (Cauchy-Binet).
   inverse.solvable = normal_matrix.determinant() > kMinTripleProduct * kMinTripleProduct;
@@ -45,7 +45,7 @@ bool PixelFitter::solve(const std::vector<int>& set, Eigen::Vector3d& scaled_nor
   const SetInverse& inverse = set_inverse(set);
   if (!inverse.solvable) return false;
   Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-  for (const int k : set) rhs += intensity_[std::size_t(k)] * lights_[std::size_t(k)];
+  for (const int k : set) rhs += intensity_[std::size_t(k)] * light(k);
   scaled_normal = inverse.inverse * rhs;
   return scaled_normal.allFinite();
 }
@@ -53,7 +53,7 @@ bool PixelFitter::solve(const std::vector<int>& set, Eigen::Vector3d& scaled_nor
 double PixelFitter::rms(const std::vector<int>& set, const Eigen::Vector3d& scaled_normal) const {
   double sum = 0.0;
   for (const int k : set) {
-    const double r = intensity_[std::size_t(k)] - scaled_normal.dot(lights_[std::size_t(k)]);
+    const double r = intensity_[std::size_t(k)] - scaled_normal.dot(light(k));
     sum += r * r;
   }
   return set.empty() ? 0.0 : std::sqrt(sum / double(set.size()));
@@ -80,7 +80,7 @@ int PixelFitter::outlier() {
     if (!solve(trial_, scaled) || !(scaled.norm() > 0.0)) continue;
     const double albedo = scaled.norm();
     const Eigen::Vector3d normal = scaled / albedo;
-    const Eigen::Vector3d& light = lights_[std::size_t(used_[i])];
+    const Eigen::Vector3d& light = this->light(used_[i]);
     double cost;
     if (used_.size() >= 5) {
       cost = rms(trial_, scaled) / albedo;
@@ -101,7 +101,7 @@ double PixelFitter::largest_deviation(const Eigen::Vector3d& scaled_normal) {
   const Eigen::Matrix3d& inverse = set_inverse(used_).inverse;
   double largest = 0.0;
   for (const int k : used_) {
-    const Eigen::Vector3d& light = lights_[std::size_t(k)];
+    const Eigen::Vector3d& light = this->light(k);
     // The residual over one minus the leverage: the photograph against the fit of the others.
     const double free = 1.0 - light.dot(inverse * light);
     const double residual = intensity_[std::size_t(k)] - scaled_normal.dot(light);
@@ -120,10 +120,11 @@ void PixelFitter::drop_outliers(Eigen::Vector3d& scaled_normal) {
 }
 
 PixelFit PixelFitter::fit(const std::vector<ImageF>& images, const std::vector<Mask>& clipped, int r, int c) {
+  lights_.at(r, c);
   available_.clear();
   double brightest = 0.0;
   for (std::size_t k = 0; k < images.size(); ++k) {
-    intensity_[k] = double(images[k](r, c));
+    intensity_[k] = double(images[k](r, c)) / lights_.strength(k);
     if (!clipped.empty() && clipped[k](r, c)) continue;
     available_.push_back(int(k));
     brightest = std::max(brightest, intensity_[k]);

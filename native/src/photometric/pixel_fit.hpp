@@ -4,6 +4,8 @@
 
 #include <shadecut/photometric/photometric_stereo.hpp>
 
+#include "photometric/pixel_lights.hpp"
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -28,14 +30,16 @@ struct PixelFit {
 /// Fits pixels one at a time, reusing its buffers; one per thread.
 class PixelFitter {
  public:
-  /// @param[in] lights unit directions toward the lights, one per photograph.
-  PixelFitter(const std::vector<Eigen::Vector3d>& lights, double shadow_fraction, double outlier_tolerance);
+  /// @param[in] lights the lights of each pixel, one per photograph; moved to every pixel fitted.
+  PixelFitter(PixelLights& lights, double shadow_fraction, double outlier_tolerance);
 
-  /// The fit at pixel (r, c) of `images` (clipped: empty or one mask per photograph).
+  /// The fit at pixel (r, c) of `images` (clipped: empty or one mask per photograph), the intensities
+  /// read at the lights' strengths there.
   PixelFit fit(const std::vector<ImageF>& images, const std::vector<Mask>& clipped, int r, int c);
 
  private:
-  // (sum over the set of S S^T)^-1, and whether the set's lights fix a normal; cached per set.
+  // (sum over the set of S S^T)^-1, and whether the set's lights fix a normal; cached per set while
+  // the lights are the same at every pixel.
   struct SetInverse {
     bool solvable = false;
     Eigen::Matrix3d inverse = Eigen::Matrix3d::Zero();
@@ -49,7 +53,9 @@ class PixelFitter {
   void drop_outliers(Eigen::Vector3d& scaled_normal);
   int outlier();
 
-  const std::vector<Eigen::Vector3d>& lights_;
+  const Eigen::Vector3d& light(int k) const { return lights_.directions()[std::size_t(k)]; }
+
+  PixelLights& lights_;
   double shadow_fraction_, outlier_tolerance_;
   std::vector<double> intensity_;
   std::vector<int> available_, used_, previous_, trial_;
@@ -65,7 +71,7 @@ std::vector<Eigen::Vector3d> checked_photometric_input(const std::vector<ImageF>
 /// Fills result.first_candidate, second_candidate, their shadow conflicts and the albedo at the pixels
 /// where pairs[p].a >= 0, with the albedo PhotometricStereoParams::albedo_map or albedo describe.
 void resolve_pairs(const std::vector<UsablePair>& pairs, const std::vector<ImageF>& images,
-                   const std::vector<Mask>& clipped, const std::vector<Eigen::Vector3d>& lights, const Mask& mask,
+                   const std::vector<Mask>& clipped, PixelLights& lights, const Mask& mask,
                    const PhotometricStereoParams& params, PhotometricStereoResult& result);
 
 }  // namespace shadecut::detail

@@ -135,6 +135,9 @@ std::vector<OptionField> photograph_and_runtime_fields() {
       {"first_light_tilt", G::Photographs, &O::first_light_tilt, any_finite(),
        "several photographs without lights: the image-plane direction, degrees (90 = from the top, 0 = from the "
        "right), the first photograph's light comes from, within 90 degrees; it tells a bump from a dent", {}},
+      {"light_distance", G::Photographs, &O::light_distance, at_least(0.0),
+       "several photographs with their lights given: how far the lamps stand from the frame's centre, in frame widths "
+       "(each along its photograph's light); 0 = distant lights, as the sun's", {}},
       {"threads", G::Runtime, &O::threads, between(0.0, kMaxThreads), "threads; 0 = all cores", {}},
   };
 }

@@ -9,6 +9,7 @@
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/validate.hpp>
 
+#include "photometric/pixel_lights.hpp"
 #include "pipeline/option_checks.hpp"
 #include "pipeline/surface_rules.hpp"
 #include "support/parallel.hpp"
@@ -25,6 +26,9 @@ namespace {
 // The shares of the call's progress: the per-pixel fits, the cut, the integration.
 constexpr double kFitShare = 0.4;
 constexpr double kCutShare = 0.7;
+// Near lamps: the photographs are read again on the depth the reading before found, since the lamps'
+// directions at a pixel depend on where the surface is.
+constexpr int kNearLampPasses = 3;
 
 void check_photographs(const std::vector<Observation>& photographs, const Mask* mask) {
   const Observation& first = photographs.front();
@@ -60,15 +64,23 @@ void fit_albedo_and_residual(const std::vector<Observation>& photographs, const 
     result.albedo_map = photometric_albedo(images, lights, result.normals, result.mask, {}, params);
   }
   result.residual = ImageF::Zero(result.mask.rows(), result.mask.cols());
-  parallel_for(int(result.mask.size()), 4096, 0, [&](int i) {
-    if (!result.mask.data()[i]) return;
-    const Eigen::Vector3d n = result.normals.xyz.row(i).transpose().cast<double>();
-    double misfit = 0.0;
-    for (std::size_t k = 0; k < photographs.size(); ++k) {
-      const double shading = std::max(0.0, n.dot(lights.row(Eigen::Index(k)).transpose()));  // unit: result.lights
-      misfit += std::pow(photographs[k].image.data()[i] - result.albedo_map.data()[i] * shading, 2);
-    }
-    result.residual.data()[i] = float(std::sqrt(misfit / double(photographs.size())));
+  const std::vector<Eigen::Vector3d>& unit = result.lights;
+  const int cols = int(result.mask.cols());
+  parallel_ranges(int(result.mask.rows()), 8, 0, [&](int begin, int end) {
+    PixelLights lights_here(unit, params.lamps);
+    for (int r = begin; r < end; ++r)
+      for (int c = 0; c < cols; ++c) {
+        const Eigen::Index i = Eigen::Index(r) * cols + c;
+        if (!result.mask.data()[i]) continue;
+        lights_here.at(r, c);
+        const Eigen::Vector3d n = result.normals.xyz.row(i).transpose().cast<double>();
+        double misfit = 0.0;
+        for (std::size_t k = 0; k < photographs.size(); ++k) {
+          const double shading = std::max(0.0, n.dot(lights_here.directions()[k])) * lights_here.strength(k);
+          misfit += std::pow(photographs[k].image.data()[i] - result.albedo_map.data()[i] * shading, 2);
+        }
+        result.residual.data()[i] = float(std::sqrt(misfit / double(photographs.size())));
+      }
   });
 }
 
@@ -81,7 +93,7 @@ NormalMap photographs_normals(const std::vector<Observation>& photographs, const
   for (const Observation& photograph : photographs) images.push_back(photograph.image);
   Stopwatch stage;
   PhotometricStereoResult fitted = photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kFitShare));
-  stats.seconds["photometric stereo"] = stage.seconds();
+  stats.seconds["photometric stereo"] += stage.seconds();
   stats.pair_pixels = fitted.pair_pixels;
   stats.single_pixels = fitted.single_pixels;
   stats.dark_pixels = fitted.dark_pixels;
@@ -91,7 +103,7 @@ NormalMap photographs_normals(const std::vector<Observation>& photographs, const
   cut_params.smoothness = options.candidate_smoothness;
   CandidateCutResult chosen =
       choose_candidates(photometric_candidates(std::move(fitted)), cut_params, progress.range(kFitShare, kCutShare));
-  stats.seconds["candidate cut"] = stage.seconds();
+  stats.seconds["candidate cut"] += stage.seconds();
   stats.cycles = chosen.cycles;
   stats.accepted_moves = chosen.accepted_moves;
   NormalMap normals = std::move(chosen.normals);
@@ -107,6 +119,9 @@ std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& 
                                                 const ReconstructOptions& options, const Progress& progress,
                                                 ReconstructStats& stats) {
   std::vector<Eigen::Vector3d> lights;
+  if (!photographs.front().light && options.light_distance > 0.0)
+    throw InvalidArgument("shadecut: light_distance places the lamps along the photographs' lights; give their "
+                          "lights, or leave light_distance at 0 to have distant lights estimated");
   if (photographs.front().light) {
     for (const Observation& photograph : photographs) lights.push_back(photograph.light->normalized());
     return lights;
@@ -124,6 +139,31 @@ std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& 
   stats.light_uncertainty = *std::max_element(estimate.uncertainty.begin(), estimate.uncertainty.end());
   for (Eigen::Index k = 0; k < estimate.lights.rows(); ++k) lights.push_back(estimate.lights.row(k).transpose());
   return lights;
+}
+
+// The surface of one reading of the photographs: their normals, then the depth.
+Surface photographs_surface(const std::vector<Observation>& photographs, const LightDirections& directions,
+                            const Mask& mask, const PhotometricStereoParams& params, const ReconstructOptions& options,
+                            const Progress& progress, ReconstructStats& stats) {
+  Mask fill;
+  NormalMap normals = photographs_normals(photographs, directions, mask, params, options, progress, fill, stats);
+  progress.report(kCutShare, "integration");
+  const Stopwatch integration;
+  Surface surface = surface_from_normals(std::move(normals), mask, fill, edge_is_outline(options), options.integrator,
+                                         options.seamless, options.max_slope, progress.range(kCutShare, 1.0));
+  stats.seconds["integration"] += integration.seconds();
+  return surface;
+}
+
+// Lamps `distance` frame widths from the frame's centre at the surface's mean depth (ReconstructOptions::
+// light_distance), the surface's points at `depth`.
+NearLamps lamps_around(double distance, const Mask& mask, ImageF depth) {
+  NearLamps lamps;
+  lamps.distance = distance * double(mask.cols());
+  const double mean_depth = double(mask.select(depth, 0.0f).sum()) / double(std::max<Eigen::Index>(1, mask.count()));
+  lamps.centre = Eigen::Vector3d(0.5 * double(mask.cols() - 1), -0.5 * double(mask.rows() - 1), mean_depth);
+  lamps.depth = std::move(depth);
+  return lamps;
 }
 
 }  // namespace
@@ -149,13 +189,16 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   params.shadow_fraction = options.photometric_shadow_fraction;
   params.outlier_tolerance = options.photometric_outlier_tolerance;
   params.albedo = albedo.value_or(0.0);
-  Mask fill;
-  NormalMap normals = photographs_normals(photographs, directions, mask, params, options, progress, fill, result.stats);
-  progress.report(kCutShare, "integration");
-  const Stopwatch integration;
-  Surface surface = surface_from_normals(std::move(normals), mask, fill, edge_is_outline(options), options.integrator,
-                                         options.seamless, options.max_slope, progress.range(kCutShare, 1.0));
-  result.stats.seconds["integration"] = integration.seconds();
+  Surface surface;
+  const int passes = options.light_distance > 0.0 ? kNearLampPasses : 1;
+  for (int pass = 0; pass < passes; ++pass) {
+    if (options.light_distance > 0.0)
+      params.lamps = lamps_around(options.light_distance, mask,
+                                  pass > 0 ? std::move(surface.depth) : ImageF(ImageF::Zero(mask.rows(), mask.cols())));
+    surface = photographs_surface(photographs, directions, mask, params, options,
+                                  progress.range(double(pass) / passes, double(pass + 1) / passes), result.stats);
+  }
+  if (options.light_distance > 0.0) params.lamps = lamps_around(options.light_distance, mask, surface.depth);
   result.normals = std::move(surface.normals);
   result.depth = std::move(surface.depth);
   result.stats.shadow_pixels = surface.filled_pixels;

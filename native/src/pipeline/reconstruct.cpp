@@ -24,7 +24,8 @@ Reconstruction reconstruct_masked(const std::vector<Observation>& observations, 
     const ColourImage* colour = inside.front().has_colour() ? &inside.front().colour : nullptr;
     return detail::reconstruct_painted(inside.front().image, colour, inside.front().light, &inside_mask, albedo, options);
   };
-  if (options.scene != SceneKind::Object) return solve(observations, mask);
+  // Near lamps stand around the frame's centre, which a window would move.
+  if (options.scene != SceneKind::Object || options.light_distance > 0.0) return solve(observations, mask);
   return detail::solve_in_object_window(observations, mask, solve);
 }
 
@@ -65,6 +66,9 @@ Reconstruction reconstruct(const std::vector<Observation>& observations, const M
                            const ReconstructOptions& options) {
   if (observations.empty()) throw InvalidArgument("shadecut: no photograph given");
   check_option_ranges(options);
+  if (observations.size() == 1 && options.light_distance > 0.0)
+    throw InvalidArgument("shadecut: light_distance places the lamps of several photographs; one photograph is read "
+                          "under a distant light (leave light_distance at 0)");
   if (mask) return reconstruct_masked(observations, *mask, albedo, options);
   if (observations.size() > 1) return detail::reconstruct_photographs(observations, nullptr, albedo, options);
   return reconstruct_one(observations, albedo, options);

@@ -22,6 +22,17 @@ using CountImage = Eigen::Array<std::int32_t, Eigen::Dynamic, Eigen::Dynamic, Ei
 /// photograph's noise: the second of the two photographs adds nothing and is refused.
 constexpr double kSameLightDegrees = 0.1;
 
+/// Lamps near the subject (a desk lamp, a flash): lamp k stands at `centre` + `distance` S_k, S_k the
+/// unit light of photograph k, so the direction toward it changes across the frame, and its strength
+/// falls with the squared distance, equal to a distant light's at `distance`. A distant light is a
+/// lamp infinitely far (`distance` 0 here).
+struct NearLamps {
+  double distance = 0.0;  ///< pixel units, > 0; 0 = distant lights
+  /// Camera frame, pixel units, where pixel (r, c) of the surface is (c, -r, depth(r, c)).
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  ImageF depth;  ///< H x W, pixel units: the surface's depth; empty = 0 everywhere
+};
+
 struct PhotometricStereoParams {
   /// A photograph is in shadow at a pixel where its intensity is below shadow_fraction times the
   /// pixel's albedo, i.e. where the light grazes the surface by less than asin(shadow_fraction)
@@ -40,6 +51,9 @@ struct PhotometricStereoParams {
   /// (an albedo known from elsewhere: another set of photographs, a painted reference); where it is
   /// <= 0 the uniform estimate that `albedo` = 0 describes.
   ImageF albedo_map;
+  /// Lamps near the subject in place of distant lights: each pixel is read under its own directions
+  /// toward them and their strengths there.
+  NearLamps lamps;
   int threads = 0;  ///< threads of the per-pixel fits; 0 = all cores
 };
 
@@ -76,7 +90,9 @@ struct PhotometricStereoResult {
   std::int64_t pair_pixels = 0;    ///< masked pixels with exactly two
 };
 
-/// Per-pixel photometric stereo under distant lights, I_k = albedo max(0, n . S_k).
+/// Per-pixel photometric stereo under distant lights, I_k = albedo max(0, n . S_k), or near lamps
+/// (PhotometricStereoParams::lamps), I_k = albedo max(0, n . L_k) (distance / |lamp - point|)^2 with
+/// L_k the unit direction from the pixel's point toward lamp k.
 ///
 /// At every masked pixel, the photographs that are usable there (not clipped, not in shadow:
 /// PhotometricStereoParams::shadow_fraction, judged against the albedo of a first fit and refitted)

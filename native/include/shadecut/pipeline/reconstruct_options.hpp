@@ -83,6 +83,7 @@ struct ReconstructOptions {
   double candidate_smoothness = CandidateCutParams{}.smoothness;
   double light_slant = LightHint{}.slant;
   double first_light_tilt = LightHint{}.first_tilt;
+  double light_distance = 0.0;
   // Runtime
   int threads = 0;
   /// Told the fraction of the call done and the stage: "cut_out", "light" (estimating it), "local", "energy",
