@@ -251,5 +251,84 @@ TEST(PhotometricStereo, RefusesBadInput) {
   EXPECT_THROW(photometric_stereo(images, lights, scene.mask, {}, negative), InvalidArgument);
 }
 
+// Lambertian photographs of `scene` under lamps `distance` pixels from `centre` along `lights`, with
+// the inverse-square falloff NearLamps describes: the physics written out here, apart from the library's.
+std::vector<ImageF> near_lamp_photographs(const testing::Scene& scene, const LightDirections& lights, const ImageF& albedo,
+                                          double distance, const Eigen::Vector3d& centre) {
+  std::vector<ImageF> images;
+  const int rows = int(scene.mask.rows()), cols = int(scene.mask.cols());
+  for (Eigen::Index k = 0; k < lights.rows(); ++k) {
+    const Eigen::Vector3d lamp = centre + distance * lights.row(k).transpose().normalized();
+    ImageF image = ImageF::Zero(rows, cols);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        if (!scene.mask(r, c)) continue;
+        const Eigen::Vector3d toward = lamp - Eigen::Vector3d(c, -r, scene.depth(r, c));
+        const Eigen::Vector3d n = scene.normals.xyz.row(r * cols + c).transpose().cast<double>();
+        const double cosine = std::max(0.0, n.dot(toward.normalized()));
+        image(r, c) = float(albedo(r, c) * cosine * std::pow(distance / toward.norm(), 2));
+      }
+    images.push_back(image);
+  }
+  return images;
+}
+
+TEST(PhotometricStereo, NearLampsGiveExactNormalsAcrossTheFrame) {
+  const auto scene = testing::sphere_scene(96, 0.45, {0, 0, 1});
+  const LightDirections lights = lights_around(4, 40.0, 90.0, 90.0);
+  const ImageF albedo = painted_albedo(96, 96);
+  NearLamps lamps;
+  lamps.distance = 192.0;  // two frame widths: the directions differ by up to 20 degrees across the frame
+  lamps.centre = Eigen::Vector3d(47.5, -47.5, 0.0);
+  lamps.depth = scene.depth;
+  const auto images = near_lamp_photographs(scene, lights, albedo, lamps.distance, lamps.centre);
+  PhotometricStereoParams params;
+  params.lamps = lamps;
+  const auto near = photometric_stereo(images, lights, scene.mask, {}, params);
+  const auto read_as_distant = photometric_stereo(images, lights, scene.mask);
+  const Errors exact = fitted_errors(near, scene.normals, [](int n) { return n >= 3; });
+  // Every pixel that faces three lamps by more than the shadow test's grazing angle is fitted.
+  int facing_three = 0;
+  for (int r = 0; r < 96; ++r)
+    for (int c = 0; c < 96; ++c) {
+      int facing = 0;
+      for (Eigen::Index k = 0; k < lights.rows(); ++k) {
+        const Eigen::Vector3d lamp = lamps.centre + lamps.distance * lights.row(k).transpose().normalized();
+        const Eigen::Vector3d toward = (lamp - Eigen::Vector3d(c, -r, scene.depth(r, c))).normalized();
+        facing += scene.normals.xyz.row(r * 96 + c).cast<double>().dot(toward) > PhotometricStereoParams{}.shadow_fraction;
+      }
+      facing_three += scene.mask(r, c) && facing >= 3;
+    }
+  EXPECT_NEAR(exact.pixels, facing_three, 0.01 * facing_three);
+  EXPECT_LT(exact.worst, 0.05);  // float32 photographs
+  EXPECT_GT(fitted_errors(read_as_distant, scene.normals, [](int n) { return n >= 3; }).mean, 5.0);
+  double worst_albedo = 0.0;
+  for (Eigen::Index p = 0; p < scene.normals.size(); ++p)
+    if (near.usable.data()[p] >= 3)
+      worst_albedo = std::max(worst_albedo, double(std::abs(near.albedo.data()[p] - albedo.data()[p])));
+  EXPECT_LT(worst_albedo, 1e-4);
+}
+
+TEST(PhotometricStereo, RefusesBadLamps) {
+  const auto scene = testing::sphere_scene(32, 0.45, {0, 0, 1});
+  const LightDirections lights = lights_around(3, 40.0, 90.0, 120.0);
+  const auto images = photographs(scene, lights, ImageF::Constant(32, 32, 1.0f));
+  PhotometricStereoParams params;
+  params.lamps.distance = -1.0;
+  EXPECT_THROW(photometric_stereo(images, lights, scene.mask, {}, params), InvalidArgument);
+  params.lamps.distance = 32.0;
+  params.lamps.depth = ImageF::Zero(31, 32);
+  try {
+    photometric_stereo(images, lights, scene.mask, {}, params);
+    ADD_FAILURE() << "a depth of another size accepted";
+  } catch (const InvalidArgument& error) {
+    EXPECT_NE(std::string(error.what()).find("depth does not have the photographs' size"), std::string::npos)
+        << error.what();
+  }
+  params.lamps.depth = ImageF::Zero(32, 32);
+  params.lamps.centre.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(photometric_stereo(images, lights, scene.mask, {}, params), InvalidArgument);
+}
+
 }  // namespace
 }  // namespace shadecut
