@@ -44,6 +44,25 @@ def _scene(normals, depth, mask, light, albedo) -> Scene:
     return Scene(image, normals, np.where(mask, depth, 0).astype(np.float32), mask, tuple(light), albedo)
 
 
+def lit_by_lamps(scene: Scene, lights, distance: float, albedo=1.0) -> list:
+    """Lambertian photographs of ``scene`` under lamps near it, one per row of ``lights``: each lamp
+    ``distance`` frame widths from the frame's centre at the surface's mean depth, along its light,
+    its light falling off with the squared distance (the option ``light_distance``; docs/method.md,
+    "Near lamps"). ``albedo``: a number or (H, W); a list of (H, W) float32."""
+    rows, cols = scene.mask.shape
+    r, c = np.mgrid[0:rows, 0:cols].astype(float)
+    points = np.stack([c, -r, scene.depth - scene.depth[scene.mask].mean()], axis=-1)
+    centre = np.array([(cols - 1) / 2, -(rows - 1) / 2, 0.0])
+    reach = distance * cols
+    photographs = []
+    for light in np.asarray(lights, float):
+        toward = centre + reach * light / np.linalg.norm(light) - points
+        length = np.linalg.norm(toward, axis=-1)
+        cosine = np.clip((scene.normals * toward).sum(-1) / length, 0.0, None)
+        photographs.append((albedo * cosine * (reach / length) ** 2 * scene.mask).astype(np.float32))
+    return photographs
+
+
 def gradient_normals(dz_dx: np.ndarray, dz_dy: np.ndarray) -> np.ndarray:
     """Unit camera-frame normals normalize(-dz/dx, -dz/dy, 1) of a height field's slopes (x right,
     y up), (H, W, 3) float64."""

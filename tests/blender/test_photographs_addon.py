@@ -98,6 +98,28 @@ def test_four_photographs_in_one_click_give_the_true_normals_and_the_maps_wired(
     assert nodes[NORMAL_NODE].outputs["Normal"].links[0].to_node == shader
 
 
+def test_lamps_near_the_subject_at_the_typed_distance(addon, tmp_path):
+    """Four photographs under lamps one picture width away, their directions typed and Lamp distance
+    set: the normals are those of the library's near-lamp reading (tests/python/test_near_lamps.py)."""
+    scene = synthetic.bumps((0.0, 0.0, 1.0), size=SIZE)
+    names = [f"bumps_{index}.png" for index in range(len(AROUND))]
+    # Albedo 0.5: a lamp this near lights the nearest pixels up to 1.3 times its strength at the centre,
+    # which a file holds only below 1.
+    for name, photograph in zip(names, synthetic.lit_by_lamps(scene, AROUND, 1.0, 0.5)):
+        shadecut.save_image(tmp_path / name, photograph)
+    settings = with_typed_lights((scene, tmp_path, names))
+    settings.scene = "relief"
+    settings.light_distance = 1.0
+    objects_before = set(bpy.data.objects)
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    obj = (set(bpy.data.objects) - objects_before).pop()
+    assert scene.mean_error(decoded_normal_map(obj)) < 1.0
+    settings.light_distance = 0.0  # read as distant, the same photographs are far off: the setting is used
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    obj = (set(bpy.data.objects) - objects_before - {obj}).pop()
+    assert scene.mean_error(decoded_normal_map(obj)) > 10.0
+
+
 def test_the_scenes_suns_in_name_order_light_the_photographs(addon, sphere_photographs):
     """No Sun picked in any row: the scene's Suns, one per photograph, sorted by name (Top view: the
     world's frame is the image's)."""

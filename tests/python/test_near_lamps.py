@@ -1,5 +1,7 @@
 """Several photographs under lamps near the subject (option ``light_distance``): the light's direction
-and strength change across the frame (docs/method.md, "Near lamps")."""
+and strength change across the frame (docs/method.md, "Near lamps"). The photographs are rendered by
+shadecut.synthetic.lit_by_lamps, apart from the reading; tests/cpp/photometric writes the physics out
+a third time."""
 
 import numpy as np
 import pytest
@@ -9,24 +11,6 @@ from shadecut import synthetic
 
 # Four lights 40 degrees from the viewer, from the top, the left, the bottom and the right.
 AROUND = np.array([[0.0, 0.64, 0.77], [-0.64, 0.0, 0.77], [0.0, -0.64, 0.77], [0.64, 0.0, 0.77]])
-
-
-def lit_by_lamps(scene, lights, distance, albedo=1.0):
-    """Lambertian photographs under lamps `distance` frame widths from the frame's centre, at the
-    surface's mean depth, along `lights`, falling off with the squared distance: the physics written
-    out here, apart from the library's."""
-    rows, cols = scene.mask.shape
-    r, c = np.mgrid[0:rows, 0:cols].astype(float)
-    points = np.stack([c, -r, scene.depth - scene.depth[scene.mask].mean()], axis=-1)
-    centre = np.array([(cols - 1) / 2, -(rows - 1) / 2, 0.0])
-    reach = distance * cols
-    photographs = []
-    for light in lights:
-        toward = centre + reach * np.asarray(light) / np.linalg.norm(light) - points
-        length = np.linalg.norm(toward, axis=-1)
-        cosine = np.clip((scene.normals * toward).sum(-1) / length, 0.0, None)
-        photographs.append((albedo * cosine * (reach / length) ** 2 * scene.mask).astype(np.float32))
-    return photographs
 
 
 def regions(mask):
@@ -43,7 +27,7 @@ def errors(scene, normals, where):
 
 def test_lamps_one_frame_width_away_give_the_corners_as_accurately_as_the_centre():
     scene = synthetic.bumps((0, 0, 1), size=128)
-    photographs = lit_by_lamps(scene, AROUND, 1.0)
+    photographs = synthetic.lit_by_lamps(scene, AROUND, 1.0)
     corner, centre = regions(scene.mask)
     near = shadecut.reconstruct(photographs, AROUND, scene.mask, light_distance=1.0)
     read_as_distant = shadecut.reconstruct(photographs, AROUND, scene.mask)
@@ -58,7 +42,7 @@ def test_a_sphere_and_painted_colour_under_eight_lamps():
     tilts = np.radians(np.arange(8) * 45.0 + 90.0)
     lights = np.stack([0.64 * np.cos(tilts), 0.64 * np.sin(tilts), np.full(8, 0.77)], axis=-1)
     paint = np.array([0.9, 0.6, 0.3], np.float32)
-    photographs = [grey[..., None] * paint for grey in lit_by_lamps(scene, lights, 2.0)]
+    photographs = [grey[..., None] * paint for grey in synthetic.lit_by_lamps(scene, lights, 2.0)]
     result = shadecut.reconstruct(photographs, lights, scene.mask, light_distance=2.0)
     assert scene.mean_error(result.normals) < 0.5
     inside = shadecut.erode_mask(scene.mask, 4)
@@ -85,4 +69,4 @@ def test_distant_lights_are_read_as_before():
 def test_near_lamps_refuse_what_they_cannot_read(call, words):
     scene = synthetic.bumps((0, 0, 1), size=32)
     with pytest.raises(ValueError, match=words):
-        call(lit_by_lamps(scene, AROUND, 1.0))
+        call(synthetic.lit_by_lamps(scene, AROUND, 1.0))

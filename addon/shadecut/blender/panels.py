@@ -95,6 +95,8 @@ def draw_reconstruct_settings(layout, settings) -> None:
         column.prop(settings, "light_side")
     elif settings.light_source == "ESTIMATE" and len(settings.photographs) > 1:  # one is the single image's
         _draw_estimated_lights_hint(column, settings)
+    if len(settings.photographs) > 1 and settings.light_source != "ESTIMATE":
+        column.prop(settings, "light_distance")
     if not several:
         light_preview.draw(column, bpy.context, settings)
 

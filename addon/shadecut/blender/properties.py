@@ -204,6 +204,12 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
                     "about the same for each (strictly between 0 and 90). The photographs fix where around the "
                     "viewer each light was; this slant only scales the depth",
     )
+    light_distance: bpy.props.FloatProperty(
+        name="Lamp distance", default=DEFAULTS.light_distance, **option_bounds("light_distance"),
+        description="Several photographs with their lights given: how far the lamp stood from the middle of the "
+                    "picture, in picture widths (a desk lamp or flash, whose light comes from another direction at "
+                    "each corner). 0 = distant, like the sun",
+    )
     first_light_side: bpy.props.EnumProperty(
         name="First light", items=FIRST_LIGHT_ITEMS, default=FIRST_LIGHT_DEFAULT,
         description="Several photographs with Light Estimate: the side of the image the first photograph in the "

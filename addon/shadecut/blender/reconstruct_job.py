@@ -236,6 +236,7 @@ def _job(context, settings, source: bpy.types.Image, image: np.ndarray, colour: 
     """The Job of pixels already read (one image (H, W), or a stack (K, H, W) with K x 3 lights):
     the method, the mask the Subject asks for, the checks of the result's place and density."""
     preferences = addon_preferences(context)
+    several = image.ndim == 3  # the albedo is then fitted per pixel
     method = settings.method
     if method == "DEFAULT":
         method = preferences.default_method if preferences else api.ReconstructOptions().method.name
@@ -258,8 +259,8 @@ def _job(context, settings, source: bpy.types.Image, image: np.ndarray, colour: 
                    integrator=settings.integrator, fit_shading=settings.fit_shading, seamless=seamless,
                    albedo_method=settings.albedo_method, detail_size=settings.detail_size,
                    light_slant=settings.light_slant, first_light_tilt=side_tilt(settings.first_light_side),
+                   light_distance=settings.light_distance if several and light is not None else 0.0,
                    threads=preferences.threads if preferences else 0)
-    several = image.ndim == 3  # the albedo is then fitted per pixel
     return Job(
         name=Path(source.name).stem or source.name,
         image=image,
