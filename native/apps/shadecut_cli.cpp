@@ -8,6 +8,7 @@
 #include <shadecut/support/errors.hpp>
 
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -185,22 +186,43 @@ std::string estimated_text(const shadecut::cli::Arguments& arguments, const shad
   return text.str();
 }
 
+// What was done, with the time it took. One photograph: the method, the albedo and the graph cut's
+// work; several: how the pixels' normals came, by how many photographs were usable there.
+std::string work_text(const shadecut::cli::Arguments& arguments, const shadecut::Reconstruction& result) {
+  const shadecut::ReconstructStats& stats = result.stats;
+  std::ostringstream text;
+  if (stats.photographs == 1) {
+    text << "method " << shadecut::to_string(arguments.options.method) << ", albedo " << result.albedo << ", "
+         << stats.cycles << " cycles, " << stats.moves << " moves";
+  } else {
+    const std::int64_t fewer = stats.single_pixels + stats.dark_pixels;
+    text << "photometric stereo of " << stats.photographs << " photographs, " << (arguments.albedo ? "albedo " : "median albedo ")
+         << result.albedo << ": " << result.mask.count() - stats.pair_pixels - fewer << " pixels fitted from three or more, "
+         << stats.pair_pixels << " chosen from two by the graph cut (" << stats.cycles << " cycles), " << fewer
+         << " lit in fewer filled from their neighbours";
+  }
+  text << ", " << stats.seconds.at("total") << " s";
+  return text.str();
+}
+
+// The orientation line. Several photographs fix it themselves: there is no inversion to weigh.
+std::string orientation_text(const shadecut::cli::Arguments& arguments, const shadecut::ReconstructStats& stats) {
+  if (stats.photographs > 1) return arguments.flip ? "orientation flipped\n" : "";
+  return "orientation " + std::string(arguments.flip ? "flipped; " : "") +
+         (stats.orientation_ambiguous
+              ? "ambiguous: its inversion explains the image about as well (the outline, or a relief's rule, chose); --flip gives it"
+              : "read from the image: its inversion renders " + ratio_text(stats.inverted_residual, stats.orientation_residual) +
+                    " as far from it") +
+         "\n";
+}
+
 void print_summary(const shadecut::cli::Arguments& arguments, const shadecut::Reconstruction& result) {
   const Eigen::Vector3d& used = result.light;
   const shadecut::ReconstructStats& stats = result.stats;
   std::cout << "light " << used.x() << "," << used.y() << "," << used.z() << estimated_text(arguments, result)
-            << (stats.photographs > 1 ? " and " + std::to_string(stats.photographs - 1) + " more (" +
-                                            std::to_string(stats.pair_pixels) + " pixels lit in two photographs chosen by the graph cut, " +
-                                            std::to_string(stats.single_pixels + stats.dark_pixels) + " in fewer filled)"
-                                      : "")
-            << "\nmethod " << shadecut::to_string(arguments.options.method) << ", albedo " << result.albedo << ", " << stats.cycles
-            << " cycles, " << stats.moves << " moves, " << stats.seconds.at("total") << " s\n"
-            << "orientation " << (arguments.flip ? "flipped; " : "")
-            << (stats.orientation_ambiguous
-                    ? "ambiguous: its inversion explains the image about as well (the outline, or a relief's rule, chose); --flip gives it"
-                    : "read from the image: its inversion renders " + ratio_text(stats.inverted_residual, stats.orientation_residual) +
-                          " as far from it")
-            << "\n";
+            << (stats.photographs > 1 ? " and " + std::to_string(stats.photographs - 1) + " more" : "") << "\n"
+            << work_text(arguments, result) << "\n"
+            << orientation_text(arguments, stats);
   if (!stats.albedo_message.empty()) std::cout << "albedo: " << stats.albedo_message << "\n";
   if (stats.cut_out == shadecut::CutOutOutcome::Found)
     std::cout << stats.cut_out_message << "\n";

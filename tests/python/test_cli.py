@@ -1,5 +1,6 @@
 """The command-line tool reads an image file and writes depth, normals and a mesh."""
 
+import re
 import signal
 import subprocess
 from pathlib import Path
@@ -242,15 +243,29 @@ def test_a_log_gets_a_progress_line_per_step_and_runtime_errors_no_usage_hint(tm
     assert long_name.returncode == 2 and "filesystem error" not in long_name.stderr, long_name.stderr
 
 
-def test_several_photographs_each_with_its_light(tmp_path):
-    """Four photographs of one view, a --light each in their order: photometric stereo's surface."""
+# Four lights about 40 degrees from the viewer, from the top, the left, the bottom and the right.
+AROUND = ["0,0.64,0.77", "-0.64,0,0.77", "0,-0.64,0.77", "0.64,0,0.77"]
+
+
+def bump_photographs(tmp_path, lights):
+    """synthetic.bumps (albedo 0.8) rendered under each light, saved as PNGs: the scene and the paths."""
     scene = synthetic.bumps((0.0, 0.0, 1.0), size=64)
-    lights = ["0,0.64,0.77", "-0.64,0,0.77", "0,-0.64,0.77", "0.64,0,0.77"]
     paths = []
     for k, light in enumerate(lights):
         paths.append(tmp_path / f"photo{k}.png")
         shadecut.save_image(paths[-1], shadecut.render(scene.normals, [float(v) for v in light.split(",")], 0.8, scene.mask))
-    done = run(*paths, *[arg for light in lights for arg in ("--light", light)], "--out", tmp_path / "out", "--quiet")
+    return scene, paths
+
+
+def with_lights(lights):
+    return [arg for light in lights for arg in ("--light", light)]
+
+
+def test_several_photographs_each_with_its_light(tmp_path):
+    """Four photographs of one view, a --light each in their order: photometric stereo's surface."""
+    lights = AROUND
+    scene, paths = bump_photographs(tmp_path, lights)
+    done = run(*paths, *with_lights(lights), "--out", tmp_path / "out", "--quiet")
     assert done.returncode == 0, done.stderr
     assert "and 3 more" in done.stdout
     normals = shadecut.load_image(tmp_path / "out" / "normals.exr")
@@ -264,6 +279,48 @@ def test_several_photographs_each_with_its_light(tmp_path):
     assert scene.mean_error(np.asarray(normals.colour)) < 2.0
 
 
+def test_the_summary_of_several_photographs_says_how_each_pixel_was_decided(tmp_path):
+    """Not the single photograph's method and cycles: how many photographs, and how many pixels were
+    fitted from three or more, chosen from two, filled. Every pixel of these bumps faces all four
+    lights, so four fit them all and two of them leave every pixel a choice of two."""
+    scene, paths = bump_photographs(tmp_path, AROUND)
+    pixels = int(scene.mask.sum())
+    four = run(*paths, *with_lights(AROUND), "--out", tmp_path / "four", "--quiet")
+    assert four.returncode == 0, four.stderr
+    assert (f"photometric stereo of 4 photographs, median albedo 0.8: {pixels} pixels fitted from three or more, "
+            "0 chosen from two by the graph cut (0 cycles), 0 lit in fewer filled from their neighbours, ") in four.stdout
+    two = run(*paths[:2], *with_lights(AROUND[:2]), "--out", tmp_path / "two", "--quiet", "--albedo", "0.8")
+    assert two.returncode == 0, two.stderr
+    assert (f"photometric stereo of 2 photographs, albedo 0.8: 0 pixels fitted from three or more, {pixels} chosen "
+            "from two by the graph cut (") in two.stdout
+    for done in (four, two):
+        assert "method graphcut" not in done.stdout and "cycles, 0 moves" not in done.stdout
+        assert "orientation" not in done.stdout  # the photographs fix it: there is no inversion to weigh
+    flipped = run(*paths, *with_lights(AROUND), "--out", tmp_path / "flipped", "--quiet", "--flip")
+    assert flipped.returncode == 0 and "\norientation flipped\n" in flipped.stdout
+    one = run(paths[0], "--light", AROUND[0], "--out", tmp_path / "one", "--quiet")
+    assert one.returncode == 0, one.stderr
+    assert re.search(r"\nmethod graphcut, albedo [0-9.]+, \d+ cycles, \d+ moves, [0-9.e-]+ s\norientation ", one.stdout), one.stdout
+
+
+def test_the_summary_of_several_photographs_counts_as_the_library_does(tmp_path):
+    """A sphere's rim is dark under some of the lights: the line gives the counts the library's stats
+    give for the same files."""
+    sphere = synthetic.sphere((0.0, 0.0, 1.0), size=64)
+    lights = [[float(v) for v in light.split(",")] for light in AROUND]
+    paths = [tmp_path / f"sphere{k}.png" for k in range(len(lights))]
+    for path, light in zip(paths, lights):
+        shadecut.save_image(path, shadecut.render(sphere.normals, light, 0.8, sphere.mask), sphere.mask)
+    loaded = [shadecut.load_image(path) for path in paths]
+    stats = shadecut.reconstruct([image.image for image in loaded], lights, loaded[0].mask).stats
+    fitted = int(loaded[0].mask.sum()) - stats.pair_pixels - stats.single_pixels - stats.dark_pixels
+    assert stats.pair_pixels > 0 and fitted > 0
+    rim = run(*paths, *with_lights(AROUND), "--out", tmp_path / "rim", "--quiet")
+    assert rim.returncode == 0, rim.stderr
+    assert (f"{fitted} pixels fitted from three or more, {stats.pair_pixels} chosen from two by the graph cut "
+            f"({stats.cycles} cycles), {stats.single_pixels + stats.dark_pixels} lit in fewer filled") in rim.stdout
+
+
 def test_lights_named_by_their_sides(tmp_path):
     """--light top: a light from that side at the slant a light nobody measured is given."""
     scene = synthetic.bumps((0.0, 0.0, 1.0), size=64)
@@ -272,7 +329,7 @@ def test_lights_named_by_their_sides(tmp_path):
     for side in sides:
         paths.append(tmp_path / f"{side}.png")
         shadecut.save_image(paths[-1], shadecut.render(scene.normals, shadecut.light_from_side(side), 0.8, scene.mask))
-    done = run(*paths, *[arg for side in sides for arg in ("--light", side)], "--out", tmp_path / "out", "--quiet")
+    done = run(*paths, *with_lights(sides), "--out", tmp_path / "out", "--quiet")
     assert done.returncode == 0, done.stderr
     assert scene.mean_error(np.asarray(shadecut.load_image(tmp_path / "out" / "normals.exr").colour)) < 2.0
     wrong = run(paths[0], "--light", "sideways", "--out", tmp_path / "wrong", "--quiet")
