@@ -209,14 +209,32 @@ def test_eight_diligent_photographs_are_at_least_as_good_as_four(name):
     assert diligent_error(name, EIGHT)[0] <= diligent_error(name, FOUR)[0] + 0.05
 
 
-@pytest.mark.xfail(strict=True, reason="issue 45 asks ball <= 8, cat <= 15, reading <= 25 from photographs 079 and 031, "
-                                       "each below one photograph's error; they read 28.67, 42.51, 82.83 (one photograph: "
-                                       "5.60, 27.73, 49.46): the albedo the two candidates assume, estimated from the "
-                                       "two alone, is wrong on painted objects, and nothing anchors which mirror image a "
-                                       "region takes (with the albedo of the eight: 6.3, 10.8, 23.5)")
-@pytest.mark.parametrize("name, bound", [("ball", 8.0), ("cat", 15.0), ("reading", 25.0)])
+TWO = [79, 31]  # about 100 degrees apart
+
+
+@pytest.mark.parametrize("name, bound", [
+    ("ball", 8.0),
+    pytest.param("cat", 15.0, marks=pytest.mark.xfail(strict=True, reason=(
+        "issue 45 asks <= 15; the cat reads 18.73: on its circles of normals (albedo-free) the point is chosen "
+        "by the photographs read alone, which read 27.05 and 28.40, and their mean 22.90"))),
+    pytest.param("reading", 25.0, marks=pytest.mark.xfail(strict=True, reason=(
+        "issue 45 asks <= 25; the reading figure reads 38.19: the photographs read alone, its anchor, read "
+        "46.12 and 52.79, their mean 40.74; its print's albedo is no help to the circle, only to the anchor"))),
+])
 def test_two_diligent_photographs_100_degrees_apart(name, bound):
-    assert diligent_error(name, [79, 31])[0] <= bound
+    assert diligent_error(name, TWO)[0] <= bound
+
+
+@pytest.mark.parametrize("name", ["ball", "cat", "reading"])
+def test_two_photographs_read_better_than_either_alone(name):
+    """A second photograph never makes the surface worse than the first alone (issue 45: each below
+    one photograph's error)."""
+    ours = diligent_error(name, TWO)[0]
+    loaded = diligent.load_object(DILIGENT / f"{name}PNG", images=TWO)
+    inner = shadecut.erode_mask(loaded.mask, 2)
+    for photo, light in zip(loaded.photos, loaded.lights):
+        alone = shadecut.reconstruct(photo, light, loaded.mask)
+        assert ours < shadecut.angular_error(alone.normals, loaded.normals, inner)
 
 
 def lights_at_one_slant(lights: np.ndarray, slant_degrees: float) -> np.ndarray:

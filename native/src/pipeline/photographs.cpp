@@ -7,11 +7,13 @@
 #include <shadecut/photometric/photometric_stereo.hpp>
 #include <shadecut/pipeline/relief.hpp>
 #include <shadecut/support/errors.hpp>
+#include <shadecut/support/render.hpp>
 #include <shadecut/support/validate.hpp>
 
 #include "photometric/pixel_lights.hpp"
 #include "pipeline/option_checks.hpp"
 #include "pipeline/surface_rules.hpp"
+#include "pipeline/two_photographs.hpp"
 #include "support/parallel.hpp"
 #include "support/stopwatch.hpp"
 
@@ -26,6 +28,8 @@ namespace {
 // The shares of the call's progress: the per-pixel fits, the cut, the integration.
 constexpr double kFitShare = 0.4;
 constexpr double kCutShare = 0.7;
+// Two photographs: the share of their per-pixel fits (the photographs alone take the rest to kCutShare).
+constexpr double kTwoFitShare = 0.05;
 // Near lamps: the photographs are read again on the depth the reading before found, since the lamps'
 // directions at a pixel depend on where the surface is.
 constexpr int kNearLampPasses = 3;
@@ -141,10 +145,47 @@ std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& 
   return lights;
 }
 
+// Two photographs: every pixel both light keeps a circle of normals whatever its albedo, and nothing in
+// the pair says where on it; the photographs read alone by the paper's graph cut anchor it (the
+// nearest point), then the depth's own normals do, once. Pixels lit in fewer keep the anchor.
+Surface two_photographs_surface(const std::vector<Observation>& photographs, const LightDirections& directions,
+                                const Mask& mask, const PhotometricStereoParams& params,
+                                const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
+  std::vector<ImageF> images;
+  for (const Observation& photograph : photographs) images.push_back(photograph.image);
+  Stopwatch stage;
+  const PhotometricStereoResult fitted =
+      photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kTwoFitShare));
+  stats.seconds["photometric stereo"] += stage.seconds();
+  stats.pair_pixels = fitted.pair_pixels;
+  stats.single_pixels = fitted.single_pixels;
+  stats.dark_pixels = fitted.dark_pixels;
+  stage.restart();
+  const NormalMap alone = single_photographs_normals(photographs, mask, options, progress.range(kTwoFitShare, kCutShare));
+  stats.seconds["photographs alone"] += stage.seconds();
+  std::vector<Eigen::Vector3d> lights;
+  for (Eigen::Index k = 0; k < directions.rows(); ++k) lights.push_back(directions.row(k).transpose().normalized());
+  const Mask none = Mask::Constant(mask.rows(), mask.cols(), false);
+  auto integrated = [&](NormalMap normals, const Progress& part) {
+    return surface_from_normals(std::move(normals), mask, none, edge_is_outline(options), options.integrator,
+                                options.seamless, options.max_slope, part);
+  };
+  progress.report(kCutShare, "integration");
+  stage.restart();
+  const Surface first = integrated(nearest_on_circles(images, lights, params.lamps, fitted.usable, alone, mask),
+                                   progress.range(kCutShare, 0.85));
+  Surface surface = integrated(nearest_on_circles(images, lights, params.lamps, fitted.usable,
+                                                  normals_from_depth(first.depth, mask), mask),
+                               progress.range(0.85, 1.0));
+  stats.seconds["integration"] += stage.seconds();
+  return surface;
+}
+
 // The surface of one reading of the photographs: their normals, then the depth.
 Surface photographs_surface(const std::vector<Observation>& photographs, const LightDirections& directions,
                             const Mask& mask, const PhotometricStereoParams& params, const ReconstructOptions& options,
                             const Progress& progress, ReconstructStats& stats) {
+  if (photographs.size() == 2) return two_photographs_surface(photographs, directions, mask, params, options, progress, stats);
   Mask fill;
   NormalMap normals = photographs_normals(photographs, directions, mask, params, options, progress, fill, stats);
   progress.report(kCutShare, "integration");
