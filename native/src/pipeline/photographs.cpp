@@ -7,7 +7,6 @@
 #include <shadecut/photometric/photometric_stereo.hpp>
 #include <shadecut/pipeline/relief.hpp>
 #include <shadecut/support/errors.hpp>
-#include <shadecut/support/render.hpp>
 #include <shadecut/support/validate.hpp>
 
 #include "photometric/pixel_lights.hpp"
@@ -147,7 +146,7 @@ std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& 
 
 // Two photographs: every pixel both light keeps a circle of normals whatever its albedo, and nothing in
 // the pair says where on it; the photographs read alone by the paper's graph cut anchor it (the
-// nearest point), then the depth's own normals do, once. Pixels lit in fewer keep the anchor.
+// nearest point). Pixels lit in fewer keep the anchor.
 Surface two_photographs_surface(const std::vector<Observation>& photographs, const LightDirections& directions,
                                 const Mask& mask, const PhotometricStereoParams& params,
                                 const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
@@ -161,22 +160,20 @@ Surface two_photographs_surface(const std::vector<Observation>& photographs, con
   stats.single_pixels = fitted.single_pixels;
   stats.dark_pixels = fitted.dark_pixels;
   stage.restart();
-  const NormalMap alone = single_photographs_normals(photographs, mask, options, progress.range(kTwoFitShare, kCutShare));
+  const std::vector<NormalMap> alone = photographs_read_alone(photographs, mask, options, progress.range(kTwoFitShare, kCutShare));
   stats.seconds["photographs alone"] += stage.seconds();
   std::vector<Eigen::Vector3d> lights;
   for (Eigen::Index k = 0; k < directions.rows(); ++k) lights.push_back(directions.row(k).transpose().normalized());
-  const Mask none = Mask::Constant(mask.rows(), mask.cols(), false);
-  auto integrated = [&](NormalMap normals, const Progress& part) {
-    return surface_from_normals(std::move(normals), mask, none, edge_is_outline(options), options.integrator,
-                                options.seamless, options.max_slope, part);
-  };
+  // The anchor: their mean, or one of the two read alone where the other took a bump for a dent (the
+  // mean then halves the bump, far from what the photographs allow): whichever lies nearest the circles.
+  const std::vector<NormalMap> anchors{mean_normals(alone[0], alone[1], mask), alone[0], alone[1]};
+  const NormalMap& anchor = nearest_to_circles(anchors, images, lights, params.lamps, mask && (fitted.usable == 2));
   progress.report(kCutShare, "integration");
   stage.restart();
-  const Surface first = integrated(nearest_on_circles(images, lights, params.lamps, fitted.usable, alone, mask),
-                                   progress.range(kCutShare, 0.85));
-  Surface surface = integrated(nearest_on_circles(images, lights, params.lamps, fitted.usable,
-                                                  normals_from_depth(first.depth, mask), mask),
-                               progress.range(0.85, 1.0));
+  Surface surface = surface_from_normals(nearest_on_circles(images, lights, params.lamps, fitted.usable, anchor, mask),
+                                         mask, Mask::Constant(mask.rows(), mask.cols(), false), edge_is_outline(options),
+                                         options.integrator, options.seamless, options.max_slope,
+                                         progress.range(kCutShare, 1.0));
   stats.seconds["integration"] += stage.seconds();
   return surface;
 }
@@ -231,7 +228,8 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   params.outlier_tolerance = options.photometric_outlier_tolerance;
   params.albedo = albedo.value_or(0.0);
   Surface surface;
-  const int passes = options.light_distance > 0.0 ? kNearLampPasses : 1;
+  // Two photographs' depth leans on their anchor, read under distant lights: it would move the lamps wrongly.
+  const int passes = options.light_distance > 0.0 && photographs.size() > 2 ? kNearLampPasses : 1;
   for (int pass = 0; pass < passes; ++pass) {
     if (options.light_distance > 0.0)
       params.lamps = lamps_around(options.light_distance, mask,
