@@ -14,16 +14,10 @@ from __future__ import annotations
 import numpy as np
 
 import shadecut
-from shadecut import synthetic
+from shadecut import materials, synthetic
 
 SIZE = 256
 SLANT = 40.0
-
-
-def lights_around(count: int) -> np.ndarray:
-    tilts = np.radians(90.0 + 360.0 / count * np.arange(count))
-    s = np.sin(np.radians(SLANT))
-    return np.stack([s * np.cos(tilts), s * np.sin(tilts), np.full(count, np.cos(np.radians(SLANT)))], axis=-1)
 
 
 def parts(mask: np.ndarray) -> dict:
@@ -48,7 +42,7 @@ def main() -> None:
     print("|---|---|---|---|---|")
     for name, scene in scenes.items():
         for count in (4, 8):
-            lights = lights_around(count)
+            lights = materials.lights_around(count, SLANT)
             for distance in (1.0, 2.0, 4.0):
                 photographs = synthetic.lit_by_lamps(scene, lights, distance)
                 distant = shadecut.reconstruct(photographs, lights, scene.mask)

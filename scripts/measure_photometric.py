@@ -56,13 +56,6 @@ def diligent_row(folder: Path, set_name: str, images) -> str:
             f"{ours.stats.pair_pixels / loaded.mask.sum():.1%} | {seconds:.2f} |")
 
 
-def at_one_slant(lights: np.ndarray, slant_degrees: float) -> np.ndarray:
-    """The lights' own azimuths, every one at ``slant_degrees`` from the viewer."""
-    azimuth, slant = np.arctan2(lights[:, 1], lights[:, 0]), np.radians(slant_degrees)
-    return np.stack([np.sin(slant) * np.cos(azimuth), np.sin(slant) * np.sin(azimuth),
-                     np.full(len(lights), np.cos(slant))], axis=1)
-
-
 def estimated_row(folder: Path, set_name: str, images) -> str:
     """The lights estimated from the photographs (default hint) against the calibrated ones and the
     hint's own limit: the true lights' azimuths at the hint's slant, and at their own mean slant."""
@@ -78,8 +71,8 @@ def estimated_row(folder: Path, set_name: str, images) -> str:
     hint = shadecut.ReconstructOptions().light_slant
     mean_slant = float(np.degrees(np.arccos(truth[:, 2])).mean())
     return (f"| {folder.name[:-3]} | {set_label(set_name, images, len(loaded.photos))} | {error(loaded.lights):.2f} | "
-            f"{shadecut.angular_error(estimated.normals, loaded.normals, inner):.2f} | {error(at_one_slant(truth, hint)):.2f} | "
-            f"{error(at_one_slant(truth, mean_slant)):.2f} ({mean_slant:.1f}°) | {np.median(light_errors):.1f} | "
+            f"{shadecut.angular_error(estimated.normals, loaded.normals, inner):.2f} | {error(materials.at_one_slant(truth, hint)):.2f} | "
+            f"{error(materials.at_one_slant(truth, mean_slant)):.2f} ({mean_slant:.1f}°) | {np.median(light_errors):.1f} | "
             f"{estimated.stats.light_uncertainty:.1f} | {seconds:.2f} |")
 
 

@@ -72,6 +72,14 @@ def lights_around(count: int, slant_degrees: float) -> np.ndarray:
                      np.full(count, np.cos(slant))], axis=1)
 
 
+def at_one_slant(lights: np.ndarray, slant_degrees: float) -> np.ndarray:
+    """(K, 3) unit directions with the azimuths of ``lights`` (K x 3, camera frame) around the viewer,
+    every one at ``slant_degrees`` from it: what lights at one slant, the estimator's hint, can be."""
+    azimuth, slant = np.arctan2(lights[:, 1], lights[:, 0]), np.radians(slant_degrees)
+    return np.stack([np.sin(slant) * np.cos(azimuth), np.sin(slant) * np.sin(azimuth),
+                     np.full(len(lights), np.cos(slant))], axis=1)
+
+
 def lambertian_photographs(material: Material, lights: Sequence[Sequence[float]],
                            cast_shadows: bool = False) -> list[np.ndarray]:
     """(H, W, 3) float32 linear photographs of ``material`` under each distant light (K x 3, camera

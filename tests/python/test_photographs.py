@@ -250,13 +250,6 @@ def test_two_photographs_read_better_than_either_alone(name):
         assert ours < shadecut.angular_error(alone.normals, loaded.normals, inner)
 
 
-def lights_at_one_slant(lights: np.ndarray, slant_degrees: float) -> np.ndarray:
-    """The lights' own azimuths, every one at ``slant_degrees`` from the viewer."""
-    azimuth, slant = np.arctan2(lights[:, 1], lights[:, 0]), np.radians(slant_degrees)
-    return np.stack([np.sin(slant) * np.cos(azimuth), np.sin(slant) * np.sin(azimuth),
-                     np.full(len(lights), np.cos(slant))], axis=1)
-
-
 @pytest.mark.parametrize("tilts, bound", [
     ((95.0, 175.0, 262.0, 352.0), 6.0),        # four: a lamp moved by hand, within 10 degrees of even
     ((95.0, 150.0, 230.0, 290.0, 20.0), 1.0),  # five, unevenly: the photographs alone decide
@@ -266,7 +259,7 @@ def test_lights_estimated_from_photographs_lit_from_around(tilts, bound):
     their one slant; a sphere (an object) and a bump field (a relief) painted in patches. With four,
     each direction is also pulled toward an even spread, which costs a lamp off it a few degrees."""
     azimuths = np.radians(tilts)
-    lights = lights_at_one_slant(np.stack([np.cos(azimuths), np.sin(azimuths), np.ones(len(tilts))], axis=1), 40.0)
+    lights = materials.at_one_slant(np.stack([np.cos(azimuths), np.sin(azimuths), np.ones(len(tilts))], axis=1), 40.0)
     for scene in (synthetic.sphere((0, 0, 1), size=96), synthetic.bumps((0, 0, 1), size=96)):
         paint = np.where((np.indices(scene.mask.shape).sum(axis=0) // 24) % 2 == 0, 0.9, 0.5).astype(np.float32)
         images = [image * paint for image in rendered(scene, lights)]
@@ -307,12 +300,12 @@ def test_four_diligent_photographs_with_their_lights_estimated(name):
     def error(lights):
         return shadecut.angular_error(shadecut.reconstruct(loaded.photos, lights, loaded.mask).normals, loaded.normals, inner)
     calibrated = error(loaded.lights)
-    oracle = error(lights_at_one_slant(loaded.lights, DILIGENT_HINT))
+    oracle = error(materials.at_one_slant(loaded.lights, DILIGENT_HINT))
     estimated = error(None)
     assert estimated <= oracle + 1.0, (estimated, oracle)
     if name == "reading":
         assert estimated <= 1.5 * calibrated, (estimated, calibrated)
     else:
         true_mean_slant = np.degrees(np.arccos(loaded.lights[:, 2] / np.linalg.norm(loaded.lights, axis=1))).mean()
-        best_one_slant = error(lights_at_one_slant(loaded.lights, true_mean_slant))
+        best_one_slant = error(materials.at_one_slant(loaded.lights, true_mean_slant))
         assert best_one_slant > 1.5 * calibrated, (best_one_slant, calibrated)
