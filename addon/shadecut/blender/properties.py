@@ -201,7 +201,7 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     light_slant: bpy.props.FloatProperty(
         name="Light slant", default=DEFAULTS.light_slant, **option_bounds("light_slant"),
         description="Several photographs with Light Estimate: how many degrees from the viewer their lamp stood, "
-                    "about the same for each (strictly between 0 and 90). The photographs fix where around the "
+                    "about the same for each (1 to 89). The photographs fix where around the "
                     "viewer each light was; this slant only scales the depth",
     )
     light_distance: bpy.props.FloatProperty(

@@ -40,8 +40,9 @@ void check_inputs(const std::vector<ImageF>& images, const Mask& mask, const Lig
   if (images.size() < std::size_t(kFewestPhotographsToEstimateLights))
     throw InvalidArgument("shadecut: estimating the lights needs " + std::to_string(kFewestPhotographsToEstimateLights) +
                           " or more photographs, got " + std::to_string(images.size()));
-  if (!(hint.slant > 0.0 && hint.slant < 90.0))
-    throw InvalidArgument("shadecut: the hint's slant must lie in (0, 90) degrees, got " + number_text(hint.slant));
+  if (!(hint.slant >= kLeastHintSlant && hint.slant <= kGreatestHintSlant))
+    throw InvalidArgument("shadecut: the hint's slant must lie in [" + number_text(kLeastHintSlant) + ", " +
+                          number_text(kGreatestHintSlant) + "] degrees, got " + number_text(hint.slant));
   if (!std::isfinite(hint.first_tilt))
     throw InvalidArgument("shadecut: the hint's first_tilt must be a finite angle in degrees");
   if (!hint.same_slant)

@@ -24,7 +24,6 @@ OptionRange above(double low) { return {low, kUnbounded, true, false}; }
 OptionRange between(double low, double high) { return {low, high, false, false}; }
 OptionRange from_to_below(double low, double high) { return {low, high, false, true}; }
 OptionRange any_finite() { return {}; }
-OptionRange strictly_between(double low, double high) { return {low, high, true, true}; }
 
 // The table, by stage, in the order of OptionGroup: the docs' and --help's order.
 // The scene, the method and the graph cut.
@@ -129,7 +128,7 @@ std::vector<OptionField> photograph_and_runtime_fields() {
       {"candidate_smoothness", G::Photographs, &O::candidate_smoothness, above(0.0),
        "several photographs: the graph cut's weight on neighbours' normals agreeing where two photographs leave two "
        "normals", {}},
-      {"light_slant", G::Photographs, &O::light_slant, strictly_between(0.0, 90.0),
+      {"light_slant", G::Photographs, &O::light_slant, between(kLeastHintSlant, kGreatestHintSlant),
        "several photographs without lights: the one slant, degrees from the viewer, their lights are estimated at (it "
        "scales the depth, as a side's does; the photographs fix the lights' directions around the viewer)", {}},
       {"first_light_tilt", G::Photographs, &O::first_light_tilt, any_finite(),

@@ -9,13 +9,19 @@
 
 namespace shadecut {
 
+/// The hint's slant range, degrees: within a degree of the viewer four lights stand too near one
+/// another to be told apart, within a degree of the horizon they only graze the surface.
+constexpr double kLeastHintSlant = 1.0;
+constexpr double kGreatestHintSlant = 89.0;
+
 /// What the user knows about the lights, short of their directions.
 struct LightHint {
   /// The lights are about equally strong and at about the same slant (moved around the subject at
   /// one height, the usual multi-angle capture). Required: without it the generalized bas-relief
   /// ambiguity stays open.
   bool same_slant = true;
-  /// Their slant, degrees from the viewing direction, (0, 90); by default a side's light's. The
+  /// Their slant, degrees from the viewing direction, in [kLeastHintSlant, kGreatestHintSlant]; by
+  /// default a side's light's. The
   /// photographs leave the surface's depth scale open (the bas-relief's flattening turns every
   /// light's slant alike); this settles it, as well as the user knows it.
   double slant = kSideLightSlantDegrees;
