@@ -186,6 +186,14 @@ std::string estimated_text(const shadecut::cli::Arguments& arguments, const shad
   return text.str();
 }
 
+// How the pixels lit in exactly two photographs got their normals: with only two in all, the point of
+// the circle the pair leaves nearest the photographs read alone; with more, the graph cut's choice
+// between the pair's two normals.
+std::string pair_text(const shadecut::ReconstructStats& stats) {
+  if (stats.photographs == 2) return " taken on the circle the two leave, nearest the two read alone";
+  return " chosen from two by the graph cut (" + std::to_string(stats.cycles) + " cycles)";
+}
+
 // What was done, with the time it took. One photograph: the method, the albedo and the graph cut's
 // work; several: how the pixels' normals came, by how many photographs were usable there.
 std::string work_text(const shadecut::cli::Arguments& arguments, const shadecut::Reconstruction& result) {
@@ -198,8 +206,7 @@ std::string work_text(const shadecut::cli::Arguments& arguments, const shadecut:
     const std::int64_t fewer = stats.single_pixels + stats.dark_pixels;
     text << "photometric stereo of " << stats.photographs << " photographs, " << (arguments.albedo ? "albedo " : "median albedo ")
          << result.albedo << ": " << result.mask.count() - stats.pair_pixels - fewer << " pixels fitted from three or more, "
-         << stats.pair_pixels << " chosen from two by the graph cut (" << stats.cycles << " cycles), " << fewer
-         << " lit in fewer filled from their neighbours";
+         << stats.pair_pixels << pair_text(stats) << ", " << fewer << " lit in fewer filled from their neighbours";
   }
   text << ", " << stats.seconds.at("total") << " s";
   return text.str();

@@ -282,7 +282,7 @@ def test_several_photographs_each_with_its_light(tmp_path):
 def test_the_summary_of_several_photographs_says_how_each_pixel_was_decided(tmp_path):
     """Not the single photograph's method and cycles: how many photographs, and how many pixels were
     fitted from three or more, chosen from two, filled. Every pixel of these bumps faces all four
-    lights, so four fit them all and two of them leave every pixel a choice of two."""
+    lights, so four fit them all and two of them leave every pixel a circle of normals."""
     scene, paths = bump_photographs(tmp_path, AROUND)
     pixels = int(scene.mask.sum())
     four = run(*paths, *with_lights(AROUND), "--out", tmp_path / "four", "--quiet")
@@ -291,8 +291,9 @@ def test_the_summary_of_several_photographs_says_how_each_pixel_was_decided(tmp_
             "0 chosen from two by the graph cut (0 cycles), 0 lit in fewer filled from their neighbours, ") in four.stdout
     two = run(*paths[:2], *with_lights(AROUND[:2]), "--out", tmp_path / "two", "--quiet", "--albedo", "0.8")
     assert two.returncode == 0, two.stderr
-    assert (f"photometric stereo of 2 photographs, albedo 0.8: 0 pixels fitted from three or more, {pixels} chosen "
-            "from two by the graph cut (") in two.stdout
+    assert (f"photometric stereo of 2 photographs, albedo 0.8: 0 pixels fitted from three or more, {pixels} taken "
+            "on the circle the two leave, nearest the two read alone, 0 lit in fewer") in two.stdout
+    assert "graph cut (" not in two.stdout  # two photographs' pixels are not the cut's choice between two
     for done in (four, two):
         assert "method graphcut" not in done.stdout and "cycles, 0 moves" not in done.stdout
         assert "orientation" not in done.stdout  # the photographs fix it: there is no inversion to weigh
