@@ -15,8 +15,14 @@ benchmark's own layout) or a folder of them. Each object is imported into <out>/
 (once: a later run reuses it) and every method runs on every photograph with the calibrated light
 and with the light estimated as reconstruct(light=None) does, the albedo always estimated; the
 report gets a "Real photographs" section (a table per object, with the flat plane's row, and a
-strip per object). --diligent alone runs only that part; with --dataset DIR the synthetic dataset
-(and the paper's experiment, unless --no-paper) is evaluated too.
+strip per object). Each object is also reconstructed from several of its photographs at once
+(shadecut.evaluation.PHOTOGRAPH_SETS: two, four, eight, all) with their calibrated lights, beside
+plain least squares over the same photographs, and with the lights estimated from the photographs
+(reconstruct(photographs, None, mask), the default hint; the median angle to the calibrated lights
+reported); a set of fewer than shadecut.FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS photographs, which the
+library does not estimate lights from, is run with the calibrated lights only. --diligent alone
+runs only that part; with --dataset DIR the synthetic dataset (and the paper's experiment, unless
+--no-paper) is evaluated too.
 
 --materials DIR evaluates one photograph of each scanned material of the test half
 (shadecut.materials.TEST; DIR is ../shared/data/materials or a folder in its layout) under four lights
@@ -353,7 +359,8 @@ def evaluate_and_report(args: argparse.Namespace, methods: tuple, dataset: Path 
     for name, part in (run.real or {}).get("objects", {}).items():
         log(f"\nReal photographs, {name}:\n" + evaluation.real_table(part))
         if part.get("photographs"):
-            log(f"\nSeveral photographs, {name}, calibrated lights:\n" + evaluation.photographs_table(part))
+            log(f"\nSeveral photographs, {name}, calibrated and estimated lights:\n"
+                + evaluation.photographs_table(part))
     failed = run.failed
     if failed:
         log(f"\n{len(failed)} evaluation(s) failed:")

@@ -32,7 +32,7 @@ import numpy as np
 
 import shadecut
 from shadecut import diligent, imaging, materials
-from shadecut.evaluation import PHOTOGRAPH_SETS, plain_least_squares, set_label
+from shadecut.evaluation import PHOTOGRAPH_SETS, median_light_error, plain_least_squares, set_label
 
 MATERIAL_SLANT_DEGREES = 40.0
 
@@ -67,12 +67,12 @@ def estimated_row(folder: Path, set_name: str, images) -> str:
         return shadecut.angular_error(shadecut.reconstruct(loaded.photos, lights, loaded.mask).normals, loaded.normals, inner)
 
     estimated, seconds = timed(loaded.photos, None, loaded.mask)
-    light_errors = np.degrees(np.arccos(np.clip(np.sum(estimated.lights * truth, axis=1), -1.0, 1.0)))
     hint = shadecut.ReconstructOptions().light_slant
     mean_slant = float(np.degrees(np.arccos(truth[:, 2])).mean())
     return (f"| {folder.name[:-3]} | {set_label(set_name, images, len(loaded.photos))} | {error(loaded.lights):.2f} | "
             f"{shadecut.angular_error(estimated.normals, loaded.normals, inner):.2f} | {error(materials.at_one_slant(truth, hint)):.2f} | "
-            f"{error(materials.at_one_slant(truth, mean_slant)):.2f} ({mean_slant:.1f}°) | {np.median(light_errors):.1f} | "
+            f"{error(materials.at_one_slant(truth, mean_slant)):.2f} ({mean_slant:.1f}°) | "
+            f"{median_light_error(estimated.lights, truth):.1f} | "
             f"{estimated.stats.light_uncertainty:.1f} | {seconds:.2f} |")
 
 

@@ -14,7 +14,7 @@ import pytest
 import scipy.io
 
 import shadecut
-from shadecut import dataset, evaluation
+from shadecut import dataset, diligent, evaluation
 
 DILIGENT = Path(__file__).resolve().parents[2].parent / "shared" / "data" / "diligent"
 NAMES = ("001.png", "002.png", "003.png", "004.png")
@@ -31,10 +31,10 @@ def _write_png(path: Path, pixels: np.ndarray, kind) -> None:
     out.close()
 
 
-def write_fixture(folder: Path, width: int = 8, height: int = 6, seed: int = 0) -> dict:
+def write_fixture(folder: Path, width: int = 8, height: int = 6, seed: int = 0, present=PRESENT) -> dict:
     """An object folder in DiLiGenT's layout: a Lambertian sphere photographed under LIGHTS, 16-bit
-    RGB codes (plus noise), with Normal_gt non-zero outside the mask (the importer zeroes it there).
-    Returns the codes, normals and mask written."""
+    RGB codes (plus noise), with Normal_gt non-zero outside the mask (the importer zeroes it there);
+    only the photographs ``present`` are written. Returns the codes, normals and mask written."""
     rng = np.random.default_rng(seed)
     folder.mkdir(parents=True)
     rows, cols = np.mgrid[0:height, 0:width]
@@ -50,7 +50,7 @@ def write_fixture(folder: Path, width: int = 8, height: int = 6, seed: int = 0) 
         shading = np.clip(normals @ light, 0, None)[..., None] * 0.7 * INTENSITIES[index] / INTENSITIES.max()
         values = np.clip(shading * 65535 + rng.integers(0, 400, (height, width, 3)), 0, 65535)
         codes[name] = values.astype(np.uint16)
-        if name in PRESENT:
+        if name in present:
             _write_png(folder / name, codes[name], oiio.UINT16)
     _write_png(folder / "mask.png", np.where(mask, 255, 0).astype(np.uint8)[..., None], oiio.UINT8)
     scipy.io.savemat(folder / "Normal_gt.mat", {"Normal_gt": normals})
@@ -251,8 +251,54 @@ def test_several_photographs_at_once_beside_plain_least_squares(tmp_path):
     for record in records[1:]:
         assert record["mean_deg"] < 0.3 * part["summary"]["flat"]["mean_deg"], record
         assert record["median_deg"] <= record["mean_deg"] + 5 and record["seconds"] >= 0
+    assert [r["light"] for r in records] == ["calibrated"] * 3
+    # Three photographs: the library refuses to estimate their lights by design, so the set has no
+    # estimated record, and the log and the table say why.
+    loaded = diligent.load_object(source)
+    with pytest.raises(ValueError, match=f"needs {shadecut.FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS} or more"):
+        shadecut.reconstruct(loaded.photos, None, loaded.mask)
+    assert any(line.startswith("several photographs of sphere, all 3:") and "lights not estimated (fewer than 4 "
+               "photographs)" in line for line in lines)
     table = evaluation.photographs_table(part)
-    assert "| one (each alone, graphcut, mean) |" in table and "| all 3 |" in table
+    assert "| one (each alone, graphcut, mean) | " in table and "| all 3 |" in table
+    assert "ShadeCut, lights estimated mean ° | light error (median) ° |" in table.splitlines()[0]
+    row = next(line for line in table.splitlines() if line.startswith("| all 3 |"))
+    assert "| — (fewer than 4) | — |" in row
+
+
+def median_angle(estimated: np.ndarray, calibrated: np.ndarray) -> float:
+    """The test's own median angle, in degrees, between two sets of K light directions."""
+    estimated = estimated / np.linalg.norm(estimated, axis=1, keepdims=True)
+    calibrated = calibrated / np.linalg.norm(calibrated, axis=1, keepdims=True)
+    return float(np.median(np.degrees(np.arccos(np.clip(np.sum(estimated * calibrated, axis=1), -1, 1)))))
+
+
+def test_four_photographs_are_also_read_with_their_lights_estimated(tmp_path):
+    """With four photographs the set "all" gets a third record: ShadeCut given no lights (the
+    default hint), scored against the measured normals, its lights against the calibrated ones.
+    The fixture's lights are not where the default hint puts them (the first from the top, all at
+    one slant): the record measures whatever the estimator makes of them, nothing is asserted of
+    its accuracy."""
+    source = tmp_path / "spherePNG"
+    write_fixture(source, width=40, height=32, present=NAMES)
+    imported = evaluation.import_objects([source], tmp_path / "out", log=lambda line: None)
+    part = evaluation.evaluate_real(imported, ("graphcut",), log=lambda line: None)["objects"]["sphere"]
+    records = part["photographs"]
+    assert [(r["set"], r["count"], r["method"], r["light"]) for r in records] == [
+        ("one", 1, "ShadeCut", "calibrated"), ("all", 4, "ShadeCut", "calibrated"),
+        ("all", 4, "plain least squares", "calibrated"), ("all", 4, evaluation.ESTIMATED, "estimated")]
+    estimated = records[-1]
+    assert estimated["status"] == "ok" and estimated["images"] == list(NAMES)
+    loaded = diligent.load_object(source)
+    result = shadecut.reconstruct(loaded.photos, None, loaded.mask)
+    assert result.stats.light_estimated
+    assert estimated["mean_deg"] == pytest.approx(
+        evaluation.normal_errors(result.normals, loaded.normals, loaded.mask)["mean_deg"])
+    assert estimated["light_error_deg"] == pytest.approx(median_angle(result.lights, LIGHTS), abs=1e-6)
+    assert estimated["light_uncertainty_deg"] == pytest.approx(result.stats.light_uncertainty)
+    assert evaluation.median_light_error(LIGHTS * [[2.0], [1.0], [0.5], [3.0]], LIGHTS) == pytest.approx(0, abs=1e-6)
+    row = next(line for line in evaluation.photographs_table(part).splitlines() if line.startswith("| all 4 |"))
+    assert f"| {estimated['mean_deg']:.2f} | {estimated['light_error_deg']:.2f} |" in row
 
 
 def test_plain_least_squares_inverts_lambertian_shading():
@@ -311,8 +357,6 @@ def test_each_module_imports_first(module):
 
 def test_load_object_reads_the_chosen_photographs_with_their_lights():
     """One loader serves the tests and the measurements: photographs by number, cropped to the mask."""
-    from shadecut import diligent
-
     folder = Path(__file__).resolve().parents[3] / "shared" / "data" / "diligent" / "ballPNG"
     if not folder.is_dir():
         pytest.skip(f"DiLiGenT is not at {folder.parent}")

@@ -9,7 +9,8 @@ Used by ``blender_scripts/eval.py`` (which adds Blender's 3-D renders) and usabl
 - :mod:`.report`: means, ranking, Markdown tables and the result files;
 - :mod:`.figures`: the strip of one sample;
 - :mod:`.real`: real photographs (DiLiGenT), calibrated and estimated light, beside a flat plane;
-- :mod:`.photographs`: several DiLiGenT photographs at once, beside plain least squares.
+- :mod:`.photographs`: several DiLiGenT photographs at once, beside plain least squares, and with the
+  lights estimated.
 
 A record is one (sample, method) pair: a flat dict of the metrics, or ``status == "failed"`` with
 the error message. Angles are in degrees, depth in pixel units.
@@ -19,15 +20,17 @@ from .figures import save_strip
 from .inputs import EvaluationError, check_methods, prepare_output, read_manifest, write_synthetic_dataset
 from .metrics import (ERODE_PIXELS, GRID_PERIODS, METRICS, THRESHOLDS, depth_errors, grid_step_ratio, light_error,
                       mask_parts, normal_errors, seam_pixels, seam_share)
-from .photographs import PHOTOGRAPH_SETS, evaluate_sets, plain_least_squares, set_label
+from .photographs import ESTIMATED, PHOTOGRAPH_SETS, evaluate_sets, median_light_error, plain_least_squares, set_label
 from .real import FLAT, evaluate_object, evaluate_real, find_objects, flat_record, import_objects
-from .report import CSV_COLUMNS, method_table, photographs_table, real_table, shape_table, write_results
+from .report import (CSV_COLUMNS, method_table, photographs_table, photographs_text, real_table, shape_table,
+                     write_results)
 from .summary import summarize
 from .runner import PAPER_LIGHT, Evaluation, SampleResult, evaluate_dataset, evaluate_sample, paper_experiment
 
 __all__ = [
     "CSV_COLUMNS",
     "ERODE_PIXELS",
+    "ESTIMATED",
     "FLAT",
     "GRID_PERIODS",
     "METRICS",
@@ -50,10 +53,12 @@ __all__ = [
     "evaluate_sets",
     "light_error",
     "mask_parts",
+    "median_light_error",
     "method_table",
     "normal_errors",
     "paper_experiment",
     "photographs_table",
+    "photographs_text",
     "plain_least_squares",
     "prepare_output",
     "read_manifest",

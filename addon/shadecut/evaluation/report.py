@@ -16,16 +16,19 @@ import time
 from pathlib import Path
 from typing import Optional, Sequence
 
+from .. import FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS
 from ..atomic_write import write_text
 from .metrics import METRICS
-from .photographs import LEAST_SQUARES, ONE, PHOTOGRAPH_SETS, SHADECUT, set_label
+from .photographs import ESTIMATED, LEAST_SQUARES, ONE, PHOTOGRAPH_SETS, SHADECUT, set_label
 
 from .runner import Evaluation
 
-# "light": empty for a dataset's records; "calibrated" or "estimated" for a real photograph's.
-# "photographs" and "two_lit_share": a several-photograph set's count and ShadeCut's share of two-lit
-# pixels; empty for one photograph's rows.
-CSV_COLUMNS = ("sample", "shape", "method", "light", "status", *METRICS, "error", "photographs", "two_lit_share")
+# "light": empty for a dataset's records; "calibrated" or "estimated" for a real photograph's and for a
+# several-photograph set's. "photographs" and "two_lit_share": a several-photograph set's count and
+# ShadeCut's share of two-lit pixels; empty for one photograph's rows. A set's "light_error_deg" is the
+# median over its photographs, and "light_uncertainty_deg" the estimator's (stats.light_uncertainty).
+CSV_COLUMNS = ("sample", "shape", "method", "light", "status", *METRICS, "error", "photographs", "two_lit_share",
+               "light_uncertainty_deg")
 
 
 def _cell(value: Optional[float], digits: int = 2) -> str:
@@ -81,25 +84,46 @@ def real_table(part: dict) -> str:
 
 def photographs_table(part: dict) -> str:
     """One object's several-photograph table (Markdown): per set, the mean angular error of ShadeCut
-    and of plain least squares over the same photographs, and ShadeCut's share of two-lit pixels."""
-    lines = ["| photographs | ShadeCut mean ° | plain least squares mean ° | two lit |", "|---|---|---|---|"]
+    and of plain least squares over the same photographs with the calibrated lights, of ShadeCut with
+    the lights estimated and their median error, and ShadeCut's share of two-lit pixels (calibrated)."""
+    lines = ["| photographs | ShadeCut mean ° | plain least squares mean ° | ShadeCut, lights estimated mean ° "
+             "| light error (median) ° | two lit |", "|---|---|---|---|---|---|"]
     records = part.get("photographs", [])
 
-    def cell(set_name: str, method: str) -> str:
-        found = [r for r in records if r["set"] == set_name and r["method"] == method]
-        if not found:
+    def found(set_name: str, method: str) -> dict:
+        return next((r for r in records if r["set"] == set_name and r["method"] == method), {})
+
+    def cell(record: dict, key: str = "mean_deg") -> str:
+        if not record:
             return "—"
-        return _cell(found[0]["mean_deg"]) if found[0]["status"] == "ok" else "failed"
+        return _cell(record.get(key)) if record["status"] == "ok" else "failed"
 
     for set_name in dict.fromkeys(r["set"] for r in records):
         first = next(r for r in records if r["set"] == set_name)
         label = ("one (each alone, graphcut, mean)" if set_name == ONE
                  else set_label(set_name, PHOTOGRAPH_SETS.get(set_name), first["count"]))
-        ours = next((r for r in records if r["set"] == set_name and r["method"] == SHADECUT), {})
+        estimated = found(set_name, ESTIMATED)
+        too_few = set_name != ONE and first["count"] < FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS
+        estimated_cells = ([f"— (fewer than {FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS})", "—"] if too_few
+                           else [cell(estimated), cell(estimated, "light_error_deg")])
+        ours = found(set_name, SHADECUT)
         share = ours.get("two_lit_share")
         two_lit = "—" if share is None else f"{100 * share:.1f}%"
-        lines.append(f"| {label} | {cell(set_name, SHADECUT)} | {cell(set_name, LEAST_SQUARES)} | {two_lit} |")
+        cells = [label, cell(ours), cell(found(set_name, LEAST_SQUARES)), *estimated_cells, two_lit]
+        lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def photographs_text() -> str:
+    """What the several-photograph table shows, in words (report.md says it above the table)."""
+    return ("Several photographs at once: ShadeCut with the calibrated lights beside plain least squares over "
+            "the same photographs, then ShadeCut with the lights estimated from the photographs alone "
+            "(`reconstruct(photographs, None, mask)`, the default hint), scored against the same measured "
+            "normals; \"light error\": the median angle between the estimated and the calibrated lights. The "
+            f"library estimates lights from {FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS} photographs or more: a smaller "
+            f"set is not run with them (\"— (fewer than {FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS})\"); one "
+            "photograph's estimated light is the table above's. \"two lit\": the share of the mask where "
+            "exactly two photographs were usable and the graph cut chose (calibrated lights).")
 
 
 def _real_lines(real: dict, out_dir: Path) -> list[str]:
@@ -114,9 +138,7 @@ def _real_lines(real: dict, out_dir: Path) -> list[str]:
         photographs = len({r["sample"] for r in part["records"]})
         lines += [f"### {name} ({photographs} photographs)", "", real_table(part), ""]
         if part.get("photographs"):
-            lines += ["Several photographs at once, calibrated lights: ShadeCut beside plain least squares "
-                      "over the same photographs (\"two lit\": the share of the mask where exactly two "
-                      "photographs were usable and the graph cut chose).", "", photographs_table(part), ""]
+            lines += [photographs_text(), "", photographs_table(part), ""]
         for figure in part["figures"]:
             relative = Path(os.path.relpath(figure, out_dir)).as_posix()
             lines += [f"![{Path(figure).stem}]({relative})", ""]
@@ -124,10 +146,9 @@ def _real_lines(real: dict, out_dir: Path) -> list[str]:
 
 
 def _set_rows(evaluation: Evaluation) -> list[dict]:
-    """results.csv's rows of the several-photograph sets (calibrated lights): one per object, set and
-    method, named <object>_<set>."""
-    return [{**record, "sample": f"{name}_{record['set']}", "shape": name, "light": "calibrated",
-             "photographs": record["count"]}
+    """results.csv's rows of the several-photograph sets: one per object, set and method, named
+    <object>_<set>, the record's light ("calibrated" or "estimated") in the column "light"."""
+    return [{**record, "sample": f"{name}_{record['set']}", "shape": name, "photographs": record["count"]}
             for name, part in (evaluation.real or {}).get("objects", {}).items() for record in part.get("photographs", [])]
 
 
