@@ -176,21 +176,43 @@ def test_four_photographs_beat_plain_least_squares_and_one_photograph(name, tmp_
     dataset.import_diligent(source, folder, images=evaluation.PHOTOGRAPH_SETS["four"])
     real = evaluation.evaluate_real({name[:-3]: folder}, ("graphcut",), log=lambda line: None)
     records = real["objects"][name[:-3]]["photographs"]
+    # The lights are estimated from four photographs or more: the set "two" has no such record.
+    estimated = evaluation.ESTIMATED
     assert [(r["set"], r["method"]) for r in records] == [("one", "ShadeCut")] + [
-        (s, m) for s in ("two", "four", "eight", "all") for m in ("ShadeCut", "plain least squares")]
+        (s, m) for s in ("two", "four", "eight", "all") for m in ("ShadeCut", "plain least squares")
+        + ((estimated,) if s != "two" else ())]
     assert all(r["status"] == "ok" for r in records)
     error = {(r["set"], r["method"]): r["mean_deg"] for r in records}
+    by_set = {(r["set"], r["method"]): r for r in records}
+    # The estimated record of the four: scored against the measured normals, its light error the
+    # median angle between the lights the estimator found and the calibrated ones.
+    loaded = diligent.load_object(source, images=evaluation.PHOTOGRAPH_SETS["four"])
+    result = shadecut.reconstruct(loaded.photos, None, loaded.mask)
+    four = by_set["four", estimated]
+    assert four["light"] == "estimated" and four["images"] == loaded.names
+    assert four["mean_deg"] == pytest.approx(
+        evaluation.normal_errors(result.normals, loaded.normals, loaded.mask)["mean_deg"])
+    unit = loaded.lights / np.linalg.norm(loaded.lights, axis=1, keepdims=True)
+    angles = np.degrees(np.arccos(np.clip(np.sum(result.lights * unit, axis=1), -1, 1)))
+    assert four["light_error_deg"] == pytest.approx(np.median(angles), abs=1e-4)
+    assert four["light_uncertainty_deg"] == pytest.approx(result.stats.light_uncertainty)
+    print(f"{name}, four photographs, lights estimated: {four['mean_deg']:.2f}, light error (median) "
+          f"{four['light_error_deg']:.2f}, uncertainty {four['light_uncertainty_deg']:.2f}")
     print(f"{name}, four photographs: ShadeCut {error['four', 'ShadeCut']:.2f}, plain least squares "
           f"{error['four', 'plain least squares']:.2f}, one photograph (mean of the four) "
           f"{error['one', 'ShadeCut']:.2f}")
     assert error["four", "ShadeCut"] < error["four", "plain least squares"]
     assert error["four", "ShadeCut"] < error["one", "ShadeCut"]
-    assert [r["count"] for r in records if r["set"] == "all"] == [19, 19]
+    assert [r["count"] for r in records if r["set"] == "all"] == [19, 19, 19]
 
     run = evaluation.Evaluation({"dataset": None, "methods": ["graphcut"], "light_method": None, "options": {},
                                  "erode_pixels": evaluation.ERODE_PIXELS}, [], [])
     run.real = real
     report = Path(evaluation.write_results(tmp_path, run)["report"]).read_text()
     row = next(line for line in report.splitlines() if line.startswith("| four (085, 007, 037, 049) |"))
-    assert f"| {error['four', 'ShadeCut']:.2f} | {error['four', 'plain least squares']:.2f} |" in row
+    assert (f"| {error['four', 'ShadeCut']:.2f} | {error['four', 'plain least squares']:.2f} | "
+            f"{four['mean_deg']:.2f} | {four['light_error_deg']:.2f} |") in row
+    two = next(line for line in report.splitlines() if line.startswith("| two (079, 031) |"))
+    assert "| — (fewer than 4) | — |" in two
+    assert "ShadeCut with the lights estimated from the photographs alone" in report
     assert "| one (each alone, graphcut, mean) |" in report and "| all 19 |" in report
