@@ -33,6 +33,13 @@ constexpr double kTwoFitShare = 0.05;
 // directions at a pixel depend on where the surface is.
 constexpr int kNearLampPasses = 3;
 
+// The photographs' images in order: what the photometric functions read.
+std::vector<ImageF> grey_images(const std::vector<Observation>& photographs) {
+  std::vector<ImageF> images;
+  for (const Observation& photograph : photographs) images.push_back(photograph.image);
+  return images;
+}
+
 void check_photographs(const std::vector<Observation>& photographs, const Mask* mask) {
   const Observation& first = photographs.front();
   for (std::size_t k = 0; k < photographs.size(); ++k) {
@@ -62,8 +69,7 @@ void fit_albedo_and_residual(const std::vector<Observation>& photographs, const 
     result.albedo_colour = photometric_colour_albedo(colours, lights, result.normals, result.mask, {}, params);
     result.albedo_map = luminance(result.albedo_colour);
   } else {
-    std::vector<ImageF> images;
-    for (const Observation& photograph : photographs) images.push_back(photograph.image);
+    const std::vector<ImageF> images = grey_images(photographs);
     result.albedo_map = photometric_albedo(images, lights, result.normals, result.mask, {}, params);
   }
   result.residual = ImageF::Zero(result.mask.rows(), result.mask.cols());
@@ -87,19 +93,23 @@ void fit_albedo_and_residual(const std::vector<Observation>& photographs, const 
   });
 }
 
+// How many pixels were lit in two, one or no photograph, into the call's stats.
+void count_usable(const PhotometricStereoResult& fitted, ReconstructStats& stats) {
+  stats.pair_pixels = fitted.pair_pixels;
+  stats.single_pixels = fitted.single_pixels;
+  stats.dark_pixels = fitted.dark_pixels;
+}
+
 // The normals the photographs give: fitted where three or more are usable, chosen by the graph cut
 // where two leave two; `fill` marks the pixels with fewer, whose normals the surface fills in.
 NormalMap photographs_normals(const std::vector<Observation>& photographs, const LightDirections& directions,
                               const Mask& mask, const PhotometricStereoParams& params, const ReconstructOptions& options,
                               const Progress& progress, Mask& fill, ReconstructStats& stats) {
-  std::vector<ImageF> images;
-  for (const Observation& photograph : photographs) images.push_back(photograph.image);
+  const std::vector<ImageF> images = grey_images(photographs);
   Stopwatch stage;
   PhotometricStereoResult fitted = photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kFitShare));
   stats.seconds["photometric stereo"] += stage.seconds();
-  stats.pair_pixels = fitted.pair_pixels;
-  stats.single_pixels = fitted.single_pixels;
-  stats.dark_pixels = fitted.dark_pixels;
+  count_usable(fitted, stats);
   fill = mask && (fitted.usable < 2);
   stage.restart();
   CandidateCutParams cut_params;
@@ -131,8 +141,7 @@ std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& 
   }
   progress.report(0.0, "light");
   const Stopwatch stage;
-  std::vector<ImageF> images;
-  for (const Observation& photograph : photographs) images.push_back(photograph.image);
+  const std::vector<ImageF> images = grey_images(photographs);
   LightHint hint;
   hint.slant = options.light_slant;
   hint.first_tilt = options.first_light_tilt;
@@ -150,15 +159,12 @@ std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& 
 Surface two_photographs_surface(const std::vector<Observation>& photographs, const LightDirections& directions,
                                 const Mask& mask, const PhotometricStereoParams& params,
                                 const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
-  std::vector<ImageF> images;
-  for (const Observation& photograph : photographs) images.push_back(photograph.image);
+  const std::vector<ImageF> images = grey_images(photographs);
   Stopwatch stage;
   const PhotometricStereoResult fitted =
       photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kTwoFitShare));
   stats.seconds["photometric stereo"] += stage.seconds();
-  stats.pair_pixels = fitted.pair_pixels;
-  stats.single_pixels = fitted.single_pixels;
-  stats.dark_pixels = fitted.dark_pixels;
+  count_usable(fitted, stats);
   stage.restart();
   const std::vector<NormalMap> alone = photographs_read_alone(photographs, mask, options, progress.range(kTwoFitShare, kCutShare));
   stats.seconds["photographs alone"] += stage.seconds();
