@@ -15,19 +15,25 @@ from test_eval import assert_clean_failure, run_eval
 METHODS = ("graphcut", "lee_rosenfeld")
 
 
-def write_fixture(repo, folder, **size):
+def fixture_module(repo):
     path = repo / "tests" / "python" / "test_diligent.py"
     spec = importlib.util.spec_from_file_location("shadecut_test_diligent", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return module.write_fixture(folder, **size)
+    return module
+
+
+def write_fixture(repo, folder, **size):
+    return fixture_module(repo).write_fixture(folder, **size)
 
 
 @pytest.fixture(scope="module")
 def photographs(repo, tmp_path_factory):
-    """A folder of one object folder, ``spherePNG``, 40 x 32 pixels, three photographs."""
+    """A folder of one object folder, ``spherePNG``, 40 x 32 pixels, four photographs (enough for the
+    lights to be estimated from them at once)."""
     folder = tmp_path_factory.mktemp("diligent")
-    write_fixture(repo, folder / "spherePNG", width=40, height=32)
+    module = fixture_module(repo)
+    module.write_fixture(folder / "spherePNG", width=40, height=32, present=module.NAMES)
     return folder
 
 
@@ -42,10 +48,10 @@ def test_the_real_photograph_section_is_written(real_run):
     completed, out = real_run
     assert completed.returncode == 0, completed.stdout + completed.stderr
     assert "importing the DiLiGenT object" in completed.stdout
-    assert "[1/3] sphere_001 (sphere), calibrated light: flat plane" in completed.stdout
+    assert "[1/4] sphere_001 (sphere), calibrated light: flat plane" in completed.stdout
     assert "Real photographs, sphere:" in completed.stdout
     report = (out / "report.md").read_text()
-    assert "## Real photographs" in report and "### sphere (3 photographs)" in report
+    assert "## Real photographs" in report and "### sphere (4 photographs)" in report
     assert "| any | **flat plane** |" in report
     for light in ("calibrated", "estimated"):
         for method in METHODS:
@@ -57,29 +63,39 @@ def test_the_real_photograph_section_is_written(real_run):
 
     results = json.loads((out / "results.json").read_text())
     part = results["real"]["objects"]["sphere"]
-    assert len(part["records"]) == 3 * (1 + 2 * len(METHODS))
+    assert len(part["records"]) == 4 * (1 + 2 * len(METHODS))
     flat = part["summary"]["flat"]
-    assert flat["samples"] == 3 and flat["mean_deg"] > 10
+    assert flat["samples"] == 4 and flat["mean_deg"] > 10
     # On a clean Lambertian sphere with its calibrated light, the graph cut beats the flat plane.
     assert part["summary"]["calibrated"]["methods"]["graphcut"]["mean_deg"] < flat["mean_deg"]
-    # Several photographs at once: only "all" (three photographs) is present in the fixture.
-    assert [(r["set"], r["count"], r["method"]) for r in part["photographs"]] == [
-        ("one", 1, "ShadeCut"), ("all", 3, "ShadeCut"), ("all", 3, "plain least squares")]
+    # Several photographs at once: only "all" (four photographs) is present in the fixture; with the
+    # calibrated lights, and with the lights estimated from the four.
+    assert [(r["set"], r["count"], r["method"], r["light"]) for r in part["photographs"]] == [
+        ("one", 1, "ShadeCut", "calibrated"), ("all", 4, "ShadeCut", "calibrated"),
+        ("all", 4, "plain least squares", "calibrated"), ("all", 4, "ShadeCut, lights estimated", "estimated")]
+    estimated = part["photographs"][-1]
+    assert estimated["status"] == "ok" and estimated["light_error_deg"] is not None
     assert "several photographs of sphere: the set four skipped (085, 007, 037, 049 not present)" in completed.stdout
-    assert "Several photographs, sphere, calibrated lights:" in completed.stdout
-    assert "| one (each alone, graphcut, mean) |" in report and "| all 3 |" in report
+    assert "Several photographs, sphere, calibrated and estimated lights:" in completed.stdout
+    assert "| one (each alone, graphcut, mean) |" in report
+    row = next(line for line in report.splitlines() if line.startswith("| all 4 |"))
+    assert f"| {estimated['mean_deg']:.2f} | {estimated['light_error_deg']:.2f} |" in row
     with open(out / "results.csv") as stream:
         rows = list(csv.DictReader(stream))
     single = [row for row in rows if not row["photographs"]]
     assert {(row["method"], row["light"]) for row in single} == {
         ("flat plane", ""), *((m, light) for m in METHODS for light in ("calibrated", "estimated"))}
     sets = [(row["sample"], row["photographs"], row["method"], row["light"]) for row in rows if row["photographs"]]
-    assert sets == [("sphere_one", "1", "ShadeCut", "calibrated"), ("sphere_all", "3", "ShadeCut", "calibrated"),
-                    ("sphere_all", "3", "plain least squares", "calibrated")]
+    assert sets == [("sphere_one", "1", "ShadeCut", "calibrated"), ("sphere_all", "4", "ShadeCut", "calibrated"),
+                    ("sphere_all", "4", "plain least squares", "calibrated"),
+                    ("sphere_all", "4", "ShadeCut, lights estimated", "estimated")]
     by_set = {(record["set"], record["method"]): record for record in part["photographs"]}
     for row in rows:
         if row["photographs"]:
-            assert float(row["mean_deg"]) == pytest.approx(by_set[row["sample"].split("_")[-1], row["method"]]["mean_deg"])
+            record = by_set[row["sample"].split("_")[-1], row["method"]]
+            assert float(row["mean_deg"]) == pytest.approx(record["mean_deg"])
+            for key in ("light_error_deg", "light_uncertainty_deg"):
+                assert (float(row[key]) if row[key] else None) == pytest.approx(record.get(key))
 
 
 def test_the_import_is_reused(repo, photographs, real_run):
