@@ -2,7 +2,7 @@
 against plain least squares over the same photographs (every one, nothing left out), one photograph
 alone (the mean over the set) and, for the materials, a flat normal map.
 
-    PYTHONPATH=addon /usr/bin/python3 scripts/measure_photometric.py [DATA_FOLDER] [--rug-figure PNG]
+    PYTHONPATH=addon /usr/bin/python3 scripts/measure_photometric.py [DATA_FOLDER] [--rug-figure PNG] [--rug-nearness]
 
 - DiLiGenT (DATA_FOLDER/diligent): 2, 4, 8 and all 19 of an object's photographs with their
   calibrated lights; one photograph is graphcut with its light. Then 4 and 8 with the lights
@@ -15,6 +15,8 @@ alone (the mean over the set) and, for the materials, a flat normal map.
 
 - The felt rug (DATA_FOLDER/multi_angle/felt_rug), with --rug-figure: its four real photographs,
   the lights named by their sides, drawn beside the normal map, the de-lit colour and the depth.
+  With --rug-nearness, only whether its lamp stood near: the residual at lamp distances and the four
+  photographs' singular values.
 
 DATA_FOLDER defaults to ../shared/data; a part whose folder is absent is left out. The tables and the
 figure in docs/results.md are its output. Nothing is tuned here: the thresholds are the option
@@ -125,12 +127,37 @@ def rug_figure(folder: Path, out: Path) -> None:
     figure.savefig(out, dpi=45)
 
 
+def rug_nearness(folder: Path) -> None:
+    """Whether the rug's lamp stood near: the photographs' median residual over the albedo, the lights
+    named by their sides, read at lamp distances from distant (0) to 4 frame widths; and the singular
+    values of the four photographs (smoothed by 4 px, pixels lit in all), which distant lights leave
+    of rank three."""
+    from scipy import ndimage
+
+    images = [shadecut.load_image(folder / f"{side}.jpg").image for side in RUG_SIDES]
+    sides = ["top", "bottom", "left", "right"]
+    for distance in (0.0, 0.5, 1.0, 2.0, 4.0):
+        result = shadecut.reconstruct(images, sides, scene="relief", light_distance=distance)
+        print(f"felt rug, light_distance {distance:g}: median residual / median albedo "
+              f"{np.median(result.residual) / np.median(result.albedo_map):.2f}")
+    smoothed = np.stack([ndimage.gaussian_filter(image, 4.0).ravel() for image in images])
+    lit = (smoothed > 0.1 * smoothed.max(axis=0)).all(axis=0)
+    values = np.linalg.svd(smoothed[:, lit], compute_uv=False)
+    print("felt rug, singular values of the four photographs (smoothed by 4 px, lit in all): "
+          + ", ".join(f"{value / values[0]:.2f}" for value in values))
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("data", nargs="?", type=Path, default=Path(__file__).resolve().parents[2] / "shared" / "data")
     parser.add_argument("--rug-figure", type=Path, help="draw the felt rug's reconstruction into this PNG")
+    parser.add_argument("--rug-nearness", action="store_true",
+                        help="only measure whether the felt rug's lamp stood near (residuals, singular values)")
     arguments = parser.parse_args()
     data = arguments.data
+    if arguments.rug_nearness:
+        rug_nearness(data / "multi_angle" / "felt_rug")
+        return 0
     if arguments.rug_figure:
         rug_figure(data / "multi_angle" / "felt_rug", arguments.rug_figure)
     print("| object | photographs | ShadeCut | plain least squares | one photograph (mean) | two lit | seconds |")
