@@ -182,6 +182,8 @@ std::string estimated_text(const shadecut::cli::Arguments& arguments, const shad
        << "about it within " << result.stats.light_uncertainty << " degrees; the others ";
   for (std::size_t k = 1; k < result.lights.size(); ++k)
     text << (k > 1 ? "; " : "") << result.lights[k].x() << "," << result.lights[k].y() << "," << result.lights[k].z();
+  if (result.stats.lights_turned_by_outline)
+    text << "; turned by half a circle from --first-light-tilt's side: the object's outline showed it inside out";
   text << ")";
   return text.str();
 }

@@ -91,6 +91,8 @@ void bind_stats(py::module_& m) {
       .def_readonly("light_uncertainty", &ReconstructStats::light_uncertainty,
                     "degrees: how far the estimated light may be off (light_method contour: its fit's misfit); NaN when "
                     "the light was given or its estimator does not know it")
+      .def_readonly("lights_turned_by_outline", &ReconstructStats::lights_turned_by_outline,
+                    "several photographs, lights estimated: the object's outline turned the hint's lights by half a circle")
       .def_readonly("moves", &ReconstructStats::moves)
       .def_readonly("accepted_moves", &ReconstructStats::accepted_moves)
       .def_readonly("levels", &ReconstructStats::levels, "resolutions solved (coarse to fine)")

@@ -279,6 +279,21 @@ def test_several_photographs_each_with_its_light(tmp_path):
     assert scene.mean_error(np.asarray(normals.colour)) < 2.0
 
 
+def test_an_objects_outline_turning_the_estimated_lights_is_said(tmp_path):
+    """Four photographs of a sphere (its outline the alpha), the first lit from the bottom against
+    --first-light-tilt's default top: the line of the lights says the outline turned them."""
+    sphere = synthetic.sphere((0.0, 0.0, 1.0), size=64)
+    paths = [tmp_path / f"sphere{k}.png" for k in range(4)]
+    for path, light in zip(paths, AROUND[2:] + AROUND[:2]):
+        shadecut.save_image(path, shadecut.render(sphere.normals, [float(v) for v in light.split(",")], 0.8, sphere.mask),
+                            sphere.mask)
+    done = run(*paths, "--out", tmp_path / "out", "--quiet")
+    assert done.returncode == 0, done.stderr
+    assert "turned by half a circle from --first-light-tilt's side: the object's outline showed it inside out" in done.stdout
+    hinted = run(*paths, "--first-light-tilt", "-90", "--out", tmp_path / "hinted", "--quiet")
+    assert hinted.returncode == 0 and "turned by half a circle" not in hinted.stdout
+
+
 def test_the_summary_of_several_photographs_says_how_each_pixel_was_decided(tmp_path):
     """Not the single photograph's method and cycles: how many photographs, and how many pixels were
     fitted from three or more, chosen from two, filled. Every pixel of these bumps faces all four

@@ -13,6 +13,7 @@
 #include "pipeline/option_checks.hpp"
 #include "pipeline/surface_rules.hpp"
 #include "pipeline/two_photographs.hpp"
+#include "support/contour.hpp"
 #include "support/parallel.hpp"
 #include "support/stopwatch.hpp"
 
@@ -32,6 +33,9 @@ constexpr double kTwoFitShare = 0.05;
 // Near lamps: the photographs are read again on the depth the reading before found, since the lamps'
 // directions at a pixel depend on where the surface is.
 constexpr int kNearLampPasses = 3;
+// Estimated lights and an outline: the share of the first reading (the second, if the outline turns
+// the lights, takes the rest).
+constexpr double kOutlineShare = 0.5;
 
 // The photographs' images in order: what the photometric functions read.
 std::vector<ImageF> grey_images(const std::vector<Observation>& photographs) {
@@ -199,6 +203,31 @@ Surface photographs_surface(const std::vector<Observation>& photographs, const L
   return surface;
 }
 
+// Whether the mask's edge runs inside the frame somewhere (the frame's own border is no outline).
+bool has_outline(const Mask& mask) {
+  for (int r = 1; r + 1 < mask.rows(); ++r)
+    for (int c = 1; c + 1 < mask.cols(); ++c)
+      if (mask(r, c) && contour_outward(mask, r, c).squaredNorm() > 0.0) return true;
+  return false;
+}
+
+// The mean over the outline's pixels of the normals' image-plane part along the outline's outward
+// direction: positive where they turn outward, as an object's do toward its occluding contour,
+// negative for its inversion (which turns each of them inward by as much).
+double outline_agreement(const NormalMap& normals, const Mask& mask) {
+  double sum = 0.0;
+  std::int64_t count = 0;
+  for (int r = 1; r + 1 < mask.rows(); ++r)
+    for (int c = 1; c + 1 < mask.cols(); ++c) {
+      if (!mask(r, c)) continue;
+      const Eigen::Vector2d outward = contour_outward(mask, r, c);
+      if (outward.squaredNorm() == 0.0) continue;
+      sum += normals.xyz.row(Eigen::Index(r) * mask.cols() + c).head<2>().cast<double>().dot(outward);
+      ++count;
+    }
+  return count > 0 ? sum / double(count) : 0.0;
+}
+
 // Lamps `distance` frame widths from the frame's centre at the surface's mean depth (ReconstructOptions::
 // light_distance), the surface's points at `depth`.
 NearLamps lamps_around(double distance, const Mask& mask, ImageF depth) {
@@ -236,12 +265,24 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   Surface surface;
   // Two photographs' depth leans on their anchor, read under distant lights: it would move the lamps wrongly.
   const int passes = options.light_distance > 0.0 && photographs.size() > 2 ? kNearLampPasses : 1;
+  // Estimated lights leave the surface's inversion open (the hint's first tilt chose); an object's
+  // outline settles it, read once more under the lights turned by half a circle where it disagrees.
+  const bool outline_decides = result.stats.light_estimated && edge_is_outline(options) && has_outline(mask);
+  const Progress reading = outline_decides ? progress.range(0.0, kOutlineShare) : progress;
   for (int pass = 0; pass < passes; ++pass) {
     if (options.light_distance > 0.0)
       params.lamps = lamps_around(options.light_distance, mask,
                                   pass > 0 ? std::move(surface.depth) : ImageF(ImageF::Zero(mask.rows(), mask.cols())));
     surface = photographs_surface(photographs, directions, mask, params, options,
-                                  progress.range(double(pass) / passes, double(pass + 1) / passes), result.stats);
+                                  reading.range(double(pass) / passes, double(pass + 1) / passes), result.stats);
+  }
+  if (outline_decides && outline_agreement(surface.normals, mask) < 0.0) {
+    directions.leftCols(2) *= -1.0;
+    for (Eigen::Vector3d& light : result.lights) light.head<2>() *= -1.0;
+    result.light = result.lights.front();
+    result.stats.lights_turned_by_outline = true;
+    surface = photographs_surface(photographs, directions, mask, params, options, progress.range(kOutlineShare, 1.0),
+                                  result.stats);
   }
   if (options.light_distance > 0.0) params.lamps = lamps_around(options.light_distance, mask, surface.depth);
   result.normals = std::move(surface.normals);

@@ -94,5 +94,30 @@ TEST(Observations, FourPhotographsWithoutLightsGiveTheirLights) {
   EXPECT_LT(mean_angular_error(result.normals, scene.normals, erode_mask(scene.mask, 2)), 1.0);
 }
 
+// The first photograph lit from the bottom, the hint's first tilt at the top: the hint gives the
+// sphere's inversion, and its outline, whose normals would then point inward, turns the lights back.
+TEST(Observations, AnObjectsOutlineTurnsLightsTheHintPutOnTheWrongSide) {
+  const testing::Scene scene = testing::sphere_scene(96, 0.45, Eigen::Vector3d(0, 0, 1));
+  const std::vector<Eigen::Vector3d> lights{Eigen::Vector3d(0, -0.64, 0.77), Eigen::Vector3d(0.64, 0, 0.77),
+                                            Eigen::Vector3d(0, 0.64, 0.77), Eigen::Vector3d(-0.64, 0, 0.77)};
+  std::vector<Observation> photographs;
+  for (const Eigen::Vector3d& light : lights)
+    photographs.push_back(grey_observation(render_lambertian(scene.normals, light, 0.8, scene.mask), std::nullopt));
+  ReconstructOptions options;
+  options.light_slant = std::acos(0.77 / Eigen::Vector2d(0.64, 0.77).norm()) * 180.0 / M_PI;
+  const Reconstruction result = reconstruct(photographs, &scene.mask, std::nullopt, options);
+  EXPECT_TRUE(result.stats.lights_turned_by_outline);
+  EXPECT_LT(result.lights.front().y(), 0.0);
+  EXPECT_EQ(result.light, result.lights.front());
+  for (std::size_t k = 0; k < lights.size(); ++k)
+    EXPECT_GT(result.lights[k].dot(lights[k].normalized()), std::cos(0.5 * M_PI / 180.0)) << "light " << k;
+  EXPECT_LT(mean_angular_error(result.normals, scene.normals, erode_mask(scene.mask, 2)), 1.0);
+  // A frame without an outline (a relief) keeps the hint's choice: the inversion.
+  const Mask frame = Mask::Constant(96, 96, true);
+  const Reconstruction relief = reconstruct(photographs, &frame, std::nullopt, options);
+  EXPECT_FALSE(relief.stats.lights_turned_by_outline);
+  EXPECT_GT(relief.lights.front().y(), 0.0);
+}
+
 }  // namespace
 }  // namespace shadecut

@@ -84,6 +84,9 @@ struct ReconstructStats {
   std::int64_t pair_pixels = 0;
   std::int64_t single_pixels = 0;
   std::int64_t dark_pixels = 0;
+  /// Several photographs, lights estimated, an object: its outline turned the lights the hint's first
+  /// tilt gave by half a circle (the surface's inversion, which the photographs leave open).
+  bool lights_turned_by_outline = false;
 };
 
 struct Reconstruction {
