@@ -385,15 +385,20 @@ def test_four_photographs_with_estimate_find_their_lights_and_the_true_normals(a
     assert "-0.000" not in operator.last[1]  # a component that rounds to zero is written without its sign
 
 
-def test_the_first_lights_side_tells_a_bump_from_a_dent(addon, sphere_photographs):
-    """Told the first photograph was lit from the bottom, the estimate takes every light the other way
-    round: the sphere comes out as its inverse, far from the truth."""
+def test_an_objects_outline_overrules_the_first_lights_side(addon, sphere_photographs):
+    """Told the first photograph was lit from the bottom (it was lit from the top), the estimate takes
+    every light the other way round; the sphere's outline shows that reading inside out and turns
+    them back: the sphere comes out a sphere, and the report says why the lights are not where told."""
     truth = sphere_photographs[0]
     with_estimated_lights(sphere_photographs, first_light_side="bottom")
     job = reconstruct_job.prepare_job(bpy.context)
+    assert job.options["first_light_tilt"] == pytest.approx(-90.0)
     job.run()
-    assert job.result.lights[0][1] < 0 < AROUND[0][1]
-    assert truth.mean_error(job.result.normals) > 45.0
+    operator = Reports()
+    assert reconstruct_job.finish_job(operator, bpy.context, job) == {"FINISHED"}
+    assert job.result.lights[0][1] > 0 and job.result.stats.lights_turned_by_outline
+    assert truth.mean_error(decoded_normal_map(bpy.context.active_object)) < 1.0
+    assert "turned by half a circle from First light's side: the object's outline showed it inside out" in operator.last[1]
 
 
 @pytest.mark.parametrize("side, tilt", [("right", 0.0), ("top", 90.0), ("above", 90.0), ("left", 180.0),

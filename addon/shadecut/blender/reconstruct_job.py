@@ -341,8 +341,10 @@ def _estimated_lights(job: Job) -> str:
     found = "; ".join(_direction_text(light) for light in job.result.lights)
     uncertain = (f", their turn about the viewer uncertain by {stats.light_uncertainty:.1f} degrees"
                  if np.isfinite(stats.light_uncertainty) else "")
+    turned = (", turned by half a circle from First light's side: the object's outline showed it inside out"
+              if stats.lights_turned_by_outline else "")
     return (f"lights estimated from them ({found}) at {short_number(job.options['light_slant'])} degrees from the "
-            f"viewer (Light slant, which the depth's scale follows){uncertain}")
+            f"viewer (Light slant, which the depth's scale follows){uncertain}{turned}")
 
 
 def report_albedo(operator, result) -> None:
