@@ -5,7 +5,7 @@ alone (the mean over the set) and, for the materials, a flat normal map.
     PYTHONPATH=addon /usr/bin/python3 scripts/measure_photometric.py [DATA_FOLDER] [--rug-figure PNG] [--rug-nearness]
 
 - DiLiGenT (DATA_FOLDER/diligent): 2, 4, 8 and all 19 of an object's photographs with their
-  calibrated lights; one photograph is graphcut with its light. Then 4 and 8 with the lights
+  calibrated lights; one photograph is graphcut with its light. Then 4, 8 and all with the lights
   estimated from them (the default hint), beside what lights at one slant can do at best. Mean angular error in degrees over the
   mask eroded by 2 pixels, as every evaluation measures.
 - The scanned materials (DATA_FOLDER/materials): each measured normal map rendered Lambertian
@@ -171,7 +171,7 @@ def main() -> int:
     print("|---|---|---|---|---|---|---|---|---|")
     for name in ("ball", "cat", "reading"):
         if (data / "diligent" / f"{name}PNG").is_dir():
-            for set_name in ("four", "eight"):
+            for set_name in ("four", "eight", "all"):
                 print(estimated_row(data / "diligent" / f"{name}PNG", set_name, PHOTOGRAPH_SETS[set_name]), flush=True)
     if not (data / "materials").is_dir():
         return 0
