@@ -77,16 +77,28 @@ TEST(Observations, FourPhotographsGiveTheNormals) {
   EXPECT_THROW(reconstruct(photographs, &scene.mask, std::nullopt, ReconstructOptions{}), InvalidArgument);
 }
 
+// The sphere's photographs under `lights` (each 0.64 from the viewer's axis, 0.77 along it), none given.
+std::vector<Observation> photographs_without_lights(const testing::Scene& scene, const std::vector<Eigen::Vector3d>& lights) {
+  std::vector<Observation> photographs;
+  for (const Eigen::Vector3d& light : lights)
+    photographs.push_back(grey_observation(render_lambertian(scene.normals, light, 0.8, scene.mask), std::nullopt));
+  return photographs;
+}
+
+// Options whose hint has those lights' slant.
+ReconstructOptions hint_at_their_slant() {
+  ReconstructOptions options;
+  options.light_slant = std::acos(0.77 / Eigen::Vector2d(0.64, 0.77).norm()) * 180.0 / M_PI;
+  return options;
+}
+
 // Without any light, four photographs lit from around give their lights at the hint's slant.
 TEST(Observations, FourPhotographsWithoutLightsGiveTheirLights) {
   const testing::Scene scene = testing::sphere_scene(96, 0.45, Eigen::Vector3d(0, 0, 1));
   const std::vector<Eigen::Vector3d> lights{Eigen::Vector3d(0, 0.64, 0.77), Eigen::Vector3d(-0.64, 0, 0.77),
                                             Eigen::Vector3d(0, -0.64, 0.77), Eigen::Vector3d(0.64, 0, 0.77)};
-  std::vector<Observation> photographs;
-  for (const Eigen::Vector3d& light : lights)
-    photographs.push_back(grey_observation(render_lambertian(scene.normals, light, 0.8, scene.mask), std::nullopt));
-  ReconstructOptions options;
-  options.light_slant = std::acos(0.77 / Eigen::Vector2d(0.64, 0.77).norm()) * 180.0 / M_PI;
+  const std::vector<Observation> photographs = photographs_without_lights(scene, lights);
+  const ReconstructOptions options = hint_at_their_slant();
   const Reconstruction result = reconstruct(photographs, &scene.mask, std::nullopt, options);
   EXPECT_TRUE(result.stats.light_estimated);
   for (std::size_t k = 0; k < lights.size(); ++k)
@@ -100,11 +112,8 @@ TEST(Observations, AnObjectsOutlineTurnsLightsTheHintPutOnTheWrongSide) {
   const testing::Scene scene = testing::sphere_scene(96, 0.45, Eigen::Vector3d(0, 0, 1));
   const std::vector<Eigen::Vector3d> lights{Eigen::Vector3d(0, -0.64, 0.77), Eigen::Vector3d(0.64, 0, 0.77),
                                             Eigen::Vector3d(0, 0.64, 0.77), Eigen::Vector3d(-0.64, 0, 0.77)};
-  std::vector<Observation> photographs;
-  for (const Eigen::Vector3d& light : lights)
-    photographs.push_back(grey_observation(render_lambertian(scene.normals, light, 0.8, scene.mask), std::nullopt));
-  ReconstructOptions options;
-  options.light_slant = std::acos(0.77 / Eigen::Vector2d(0.64, 0.77).norm()) * 180.0 / M_PI;
+  const std::vector<Observation> photographs = photographs_without_lights(scene, lights);
+  const ReconstructOptions options = hint_at_their_slant();
   const Reconstruction result = reconstruct(photographs, &scene.mask, std::nullopt, options);
   EXPECT_TRUE(result.stats.lights_turned_by_outline);
   EXPECT_LT(result.lights.front().y(), 0.0);
