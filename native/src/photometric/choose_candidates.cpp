@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
+#include <numeric>
 #include <string>
 #include <utility>
 
@@ -190,28 +193,100 @@ bool any_choice(const CountImage& count) {
   return std::any_of(count.data(), count.data() + count.size(), [](std::int32_t n) { return n > 1; });
 }
 
-}  // namespace
+// The 4-connected regions of pixels with a choice (count > 1): region[p] its index, -1 where the
+// pixel has none. Regions meet only through fixed pixels, so each can be cut on its own.
+std::vector<int> choice_regions(const CountImage& count, int& regions) {
+  const int rows = int(count.rows()), cols = int(count.cols());
+  std::vector<int> region(std::size_t(rows) * std::size_t(cols), -1), stack;
+  regions = 0;
+  for (int seed = 0; seed < rows * cols; ++seed) {
+    if (count.data()[seed] < 2 || region[std::size_t(seed)] >= 0) continue;
+    region[std::size_t(seed)] = regions;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const int p = stack.back();
+      stack.pop_back();
+      const int r = p / cols, c = p % cols;
+      for (const int q : {c > 0 ? p - 1 : -1, c + 1 < cols ? p + 1 : -1, r > 0 ? p - cols : -1,
+                          r + 1 < rows ? p + cols : -1})
+        if (q >= 0 && count.data()[q] > 1 && region[std::size_t(q)] < 0) {
+          region[std::size_t(q)] = regions;
+          stack.push_back(q);
+        }
+    }
+    ++regions;
+  }
+  return region;
+}
 
-CandidateCutResult choose_candidates(NormalCandidates candidates, const CandidateCutParams& params,
-                                     const Progress& progress) {
-  check_candidates(candidates, params);
-  if (!any_choice(candidates.count)) return fixed_candidates(std::move(candidates));
-  const CandidateEnergy energy(candidates, params.smoothness);
-  const int labels = int(candidates.normals.size());
-  std::vector<int> choice = energy.cheapest();
-  const double initial = energy.total(choice);
-  double current = initial;
-  std::unique_ptr<MaxFlowSolver> solver = make_maxflow_solver();
+struct Box {
+  int row = 0, col = 0, rows = 0, cols = 0;
+};
+
+// Each region's bounding box grown by the fixed pixels around it, and its pixel count.
+std::vector<Box> region_boxes(const std::vector<int>& region, int regions, int rows, int cols,
+                              std::vector<std::int64_t>& pixels) {
+  std::vector<int> top(std::size_t(regions), rows), left(std::size_t(regions), cols), bottom(std::size_t(regions), -1),
+      right(std::size_t(regions), -1);
+  pixels.assign(std::size_t(regions), 0);
+  for (int p = 0; p < rows * cols; ++p) {
+    const int id = region[std::size_t(p)];
+    if (id < 0) continue;
+    const int r = p / cols, c = p % cols;
+    top[std::size_t(id)] = std::min(top[std::size_t(id)], r);
+    bottom[std::size_t(id)] = std::max(bottom[std::size_t(id)], r);
+    left[std::size_t(id)] = std::min(left[std::size_t(id)], c);
+    right[std::size_t(id)] = std::max(right[std::size_t(id)], c);
+    ++pixels[std::size_t(id)];
+  }
+  std::vector<Box> boxes(static_cast<std::size_t>(regions));
+  for (std::size_t id = 0; id < boxes.size(); ++id) {
+    const int r0 = std::max(0, top[id] - 1), c0 = std::max(0, left[id] - 1);
+    boxes[id] = {r0, c0, std::min(rows, bottom[id] + 2) - r0, std::min(cols, right[id] + 2) - c0};
+  }
+  return boxes;
+}
+
+// The candidates inside `box`: the pixels of region `id` and the fixed pixels; other regions' pixels,
+// never next to this one's, take no part.
+NormalCandidates crop(const NormalCandidates& all, const std::vector<int>& region, int id, const Box& box) {
+  const int cols = int(all.count.cols());
+  NormalCandidates part;
+  part.count = all.count.block(box.row, box.col, box.rows, box.cols);
+  for (const NormalMap& map : all.normals) {
+    NormalMap cropped(box.rows, box.cols);
+    for (int r = 0; r < box.rows; ++r)
+      cropped.xyz.middleRows(Eigen::Index(r) * box.cols, box.cols) =
+          map.xyz.middleRows(Eigen::Index(box.row + r) * cols + box.col, box.cols);
+    part.normals.push_back(std::move(cropped));
+  }
+  for (const ImageF& cost : all.data_cost) part.data_cost.push_back(cost.block(box.row, box.col, box.rows, box.cols));
+  for (int r = 0; r < box.rows; ++r)
+    for (int c = 0; c < box.cols; ++c)
+      if (part.count(r, c) > 1 && region[std::size_t(box.row + r) * std::size_t(cols) + std::size_t(box.col + c)] != id)
+        part.count(r, c) = 0;
+  return part;
+}
+
+struct MoveCount {
+  int cycles = 0, accepted = 0;
+};
+
+// Fusion moves over every candidate index until a cycle keeps none or after max_cycles; `choice`
+// starts at the energy's cheapest. Progress runs from `done` to `done + share`.
+MoveCount run_moves(const CandidateEnergy& energy, std::vector<int>& choice, const CandidateCutParams& params,
+                    MaxFlowSolver& solver, int labels, const Progress& progress, double done, double share) {
+  double current = energy.total(choice);
   GridGraph graph;
   std::vector<std::uint8_t> sink_side;
-  int cycles = 0, accepted = 0;
-  for (bool improved = true; improved && cycles < params.max_cycles;) {
+  MoveCount count;
+  for (bool improved = true; improved && count.cycles < params.max_cycles;) {
     improved = false;
     for (int alpha = 0; alpha < labels; ++alpha) {
       graph.reset(energy.rows(), energy.cols());
       const FusionMove move(energy, choice, alpha);
       if (move.build(graph)) {
-        solver->solve(graph, sink_side);
+        solver.solve(graph, sink_side);
         std::vector<int> proposal = choice;
         for (std::size_t p = 0; p < proposal.size(); ++p)
           if (sink_side[p] && move.variable(int(p))) proposal[p] = alpha;
@@ -220,20 +295,61 @@ CandidateCutResult choose_candidates(NormalCandidates candidates, const Candidat
           choice.swap(proposal);
           current = proposed;
           improved = true;
-          ++accepted;
+          ++count.accepted;
         }
       }
-      progress.report(double(cycles * labels + alpha + 1) / double(params.max_cycles * labels), "candidate cut");
+      progress.report(done + share * double(count.cycles * labels + alpha + 1) / double(params.max_cycles * labels),
+                      "candidate cut");
     }
-    ++cycles;
+    ++count.cycles;
   }
+  return count;
+}
+
+}  // namespace
+
+CandidateCutResult choose_candidates(NormalCandidates candidates, const CandidateCutParams& params,
+                                     const Progress& progress) {
+  check_candidates(candidates, params);
+  if (!any_choice(candidates.count)) return fixed_candidates(std::move(candidates));
+  const CandidateEnergy energy(candidates, params.smoothness);
+  const int rows = energy.rows(), cols = energy.cols();
+  std::vector<int> choice = energy.cheapest();
+  const double initial = energy.total(choice);
+  int regions = 0;
+  const std::vector<int> region = choice_regions(candidates.count, regions);
+  std::vector<std::int64_t> pixels;
+  const std::vector<Box> boxes = region_boxes(region, regions, rows, cols, pixels);
+  const double all_pixels = double(std::accumulate(pixels.begin(), pixels.end(), std::int64_t(0)));
+  std::unique_ptr<MaxFlowSolver> solver = make_maxflow_solver();
+  int cycles = 0, accepted = 0;
+  double done = 0.0;
+  // Each region on its own box: the moves' graphs then span the pixels with a choice, not the frame.
+  for (int id = 0; id < regions; ++id) {
+    const Box& box = boxes[std::size_t(id)];
+    const NormalCandidates part = crop(candidates, region, id, box);
+    const CandidateEnergy part_energy(part, params.smoothness);
+    std::vector<int> part_choice = part_energy.cheapest();
+    const double share = double(pixels[std::size_t(id)]) / all_pixels;
+    const MoveCount count = run_moves(part_energy, part_choice, params, *solver, int(candidates.normals.size()),
+                                      progress, done, share);
+    done += share;
+    cycles = std::max(cycles, count.cycles);
+    accepted += count.accepted;
+    for (int r = 0; r < box.rows; ++r)
+      for (int c = 0; c < box.cols; ++c) {
+        const std::size_t p = std::size_t(box.row + r) * std::size_t(cols) + std::size_t(box.col + c);
+        if (region[p] == id) choice[p] = part_choice[std::size_t(r) * std::size_t(box.cols) + std::size_t(c)];
+      }
+  }
+  const double final_energy = energy.total(choice);
   detail::SegmentCount segments;
   if (params.integrable_segments) segments = detail::switch_to_integrable(candidates, choice);
   CandidateCutResult result = chosen_normals(candidates, choice);
   result.segments = segments.segments;
   result.switched_segments = segments.switched;
   result.initial_energy = initial;
-  result.energy = current;
+  result.energy = final_energy;
   result.cycles = cycles;
   result.accepted_moves = accepted;
   return result;
@@ -248,17 +364,32 @@ NormalCandidates photometric_candidates(PhotometricStereoResult result) {
   candidates.normals.push_back(std::move(result.second_candidate));
   candidates.count = (result.usable >= 3).cast<std::int32_t>();
   const std::int32_t* usable = result.usable.data();
-  if (std::find(usable, usable + result.usable.size(), 2) == usable + result.usable.size())
-    return candidates;  // nothing to choose: no costs to weigh
+  const bool pairs = std::find(usable, usable + result.usable.size(), 2) != usable + result.usable.size();
+  const bool triples = !result.triple_normals.empty();
+  if (!pairs && !triples) return candidates;  // nothing to choose: no costs to weigh
   candidates.data_cost.assign(2, ImageF::Zero(rows, cols));
+  if (triples) {
+    candidates.normals.resize(4, NormalMap(rows, cols));
+    candidates.data_cost.resize(4, ImageF::Zero(rows, cols));
+  }
+  // A candidate that faces away from the viewer costs -n_z, its distance to the nearest visible normal.
+  const auto away = [&](std::size_t k, int p) { return std::max(0.0f, -candidates.normals[k].xyz(p, 2)); };
   for (int p = 0; p < rows * cols; ++p) {
     if (result.usable.data()[p] == 2) {
       candidates.count.data()[p] = 2;
       candidates.normals[0].xyz.row(p) = result.first_candidate.xyz.row(p);
       const float conflict[2] = {result.first_shadow_conflict.data()[p], result.second_shadow_conflict.data()[p]};
-      for (int k = 0; k < 2; ++k)
-        candidates.data_cost[std::size_t(k)].data()[p] =
-            std::max(0.0f, -candidates.normals[std::size_t(k)].xyz(p, 2)) + conflict[k];
+      for (std::size_t k = 0; k < 2; ++k) candidates.data_cost[k].data()[p] = away(k, p) + conflict[k];
+    } else if (triples && result.triple_normals[0].xyz.row(p).squaredNorm() > 0.0f) {
+      // Candidate i leaves out the i-th of the four: the same photograph for every pixel of a region
+      // whose four are the same, so a move switches such a region's choice at once.
+      candidates.count.data()[p] = 4;
+      float cheapest = std::numeric_limits<float>::infinity();
+      for (std::size_t i = 0; i < 4; ++i) cheapest = std::min(cheapest, result.triple_cost[i].data()[p]);
+      for (std::size_t i = 0; i < 4; ++i) {
+        candidates.normals[i].xyz.row(p) = result.triple_normals[i].xyz.row(p);
+        candidates.data_cost[i].data()[p] = away(i, p) + result.triple_cost[i].data()[p] - cheapest;
+      }
     }
   }
   return candidates;

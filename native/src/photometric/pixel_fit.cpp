@@ -65,29 +65,39 @@ void PixelFitter::select_lit(double threshold) {
     if (intensity_[std::size_t(k)] > 0.0 && intensity_[std::size_t(k)] >= threshold) used_.push_back(k);
 }
 
+// The case against photograph used_[i] being the outlier, given the fit of the others: a photograph
+// brighter than they predict is a highlight, likeliest where its half vector meets the normal; a
+// darker one a cast shadow, likeliest where its light grazes the surface (the light the normal would
+// catch, the same evidence as a candidate's shadow conflict).
+double PixelFitter::outlier_cost(int i, const Eigen::Vector3d& scaled) const {
+  const Eigen::Vector3d normal = scaled.normalized();
+  const Eigen::Vector3d& light = this->light(used_[std::size_t(i)]);
+  if (intensity_[std::size_t(used_[std::size_t(i)])] > scaled.dot(light))
+    return 1.0 - normal.dot((light + Eigen::Vector3d::UnitZ()).normalized());
+  return std::max(0.0, normal.dot(light));
+}
+
 // The photograph of used_ to leave out (its position in used_), -1 if no subset can be fitted. With
 // five or more the data say which: the subset that fits best. With four every subset of three fits
-// exactly, so the physics says: a photograph brighter than the other three predict is a highlight,
-// likeliest where its half vector meets the normal; a darker one a cast shadow, likeliest where its
-// light grazes the surface.
+// exactly, so the physics says (outlier_cost), and the four fits are kept in triples_: the graph cut
+// weighs the same case against each, and its neighbours.
 int PixelFitter::outlier() {
   int best = -1;
   double best_cost = std::numeric_limits<double>::infinity();
+  const bool four = used_.size() == 4;
+  has_triples_ = four;
   for (std::size_t i = 0; i < used_.size(); ++i) {
     trial_.assign(used_.begin(), used_.end());
     trial_.erase(trial_.begin() + std::ptrdiff_t(i));
     Eigen::Vector3d scaled;
-    if (!solve(trial_, scaled) || !(scaled.norm() > 0.0)) continue;
-    const double albedo = scaled.norm();
-    const Eigen::Vector3d normal = scaled / albedo;
-    const Eigen::Vector3d& light = this->light(used_[i]);
-    double cost;
-    if (used_.size() >= 5) {
-      cost = rms(trial_, scaled) / albedo;
-    } else if (intensity_[std::size_t(used_[i])] > scaled.dot(light)) {
-      cost = 1.0 - normal.dot((light + Eigen::Vector3d::UnitZ()).normalized());
-    } else {
-      cost = std::max(0.0, normal.dot(light));
+    if (!solve(trial_, scaled) || !(scaled.norm() > 0.0)) {
+      has_triples_ = false;
+      continue;
+    }
+    const double cost = four ? outlier_cost(int(i), scaled) : rms(trial_, scaled) / scaled.norm();
+    if (four) {
+      triples_.normals[i] = scaled.normalized().cast<float>();
+      triples_.cost[i] = float(cost);
     }
     if (cost < best_cost) {
       best_cost = cost;
@@ -111,9 +121,13 @@ double PixelFitter::largest_deviation(const Eigen::Vector3d& scaled_normal) {
 }
 
 void PixelFitter::drop_outliers(Eigen::Vector3d& scaled_normal) {
+  has_triples_ = false;
   while (used_.size() >= 4 && largest_deviation(scaled_normal) > outlier_tolerance_ * scaled_normal.norm()) {
     const int drop = outlier();
-    if (drop < 0) return;
+    if (drop < 0) {
+      has_triples_ = false;
+      return;
+    }
     used_.erase(used_.begin() + drop);
     if (!solve(used_, scaled_normal)) return;  // cannot happen: outlier() solved this subset
   }
@@ -155,6 +169,8 @@ PixelFit PixelFitter::fit(const std::vector<ImageF>& images, const std::vector<M
     drop_outliers(scaled);
     fit.scaled_normal = scaled;
     fit.rms = rms(used_, scaled);
+    fit.has_triples = has_triples_;
+    if (has_triples_) fit.triples = triples_;
   } else if (used_.size() == 2) {
     fit.pair = {used_[0], used_[1], float(intensity_[std::size_t(used_[0])]), float(intensity_[std::size_t(used_[1])])};
   }

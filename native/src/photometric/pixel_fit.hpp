@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -20,11 +21,21 @@ struct UsablePair {
   float intensity_a = 0.0f, intensity_b = 0.0f;
 };
 
+/// A pixel where four photographs were usable and one of them missed the others' fit: the fit of each
+/// three (normals[i] leaves out the i-th of the four, in the photographs' order) and the physics'
+/// case against leaving that one out (PhotometricStereoResult::triple_cost).
+struct TripleChoice {
+  std::array<Eigen::Vector3f, 4> normals;
+  std::array<float, 4> cost{};
+};
+
 struct PixelFit {
   int usable = 0;                                       ///< photographs used
   Eigen::Vector3d scaled_normal = Eigen::Vector3d::Zero();  ///< albedo * n (usable >= 3)
   double rms = 0.0;                                     ///< RMS residual of the fit (usable >= 3)
   UsablePair pair;                                      ///< usable == 2
+  bool has_triples = false;                             ///< the outlier was one of four
+  TripleChoice triples;                                 ///< has_triples
 };
 
 /// Fits pixels one at a time, reusing its buffers; one per thread.
@@ -52,6 +63,7 @@ class PixelFitter {
   double largest_deviation(const Eigen::Vector3d& scaled_normal);
   void drop_outliers(Eigen::Vector3d& scaled_normal);
   int outlier();
+  double outlier_cost(int i, const Eigen::Vector3d& scaled) const;
 
   const Eigen::Vector3d& light(int k) const { return lights_.directions()[std::size_t(k)]; }
 
@@ -59,6 +71,9 @@ class PixelFitter {
   double shadow_fraction_, outlier_tolerance_;
   std::vector<double> intensity_;
   std::vector<int> available_, used_, previous_, trial_;
+  // outlier()'s four three-photograph fits, kept when it chose among four.
+  TripleChoice triples_;
+  bool has_triples_ = false;
   // The sets met so far, by their bits (photographs 0..63); more photographs are not cached.
   std::unordered_map<std::uint64_t, SetInverse> inverses_;
   SetInverse uncached_;

@@ -102,6 +102,38 @@ TEST(ChooseCandidates, ThreeCandidatesAndTheirCosts) {
   EXPECT_NEAR(cut.energy, 0.9, 1e-5);
 }
 
+TEST(ChooseCandidates, ACastShadowAmongFourPhotographsIsSettledByItsNeighbours) {
+  // Another object's shadow over a disc of photograph 2, a third of its light, on the half of the
+  // sphere that turns from that light (from below) but still catches it: every three of the four fit
+  // exactly, and the physics alone (a darker photograph is likeliest shadowed where its light grazes)
+  // leaves out another photograph in part of the disc (17.9 degrees off there). The pixels around the
+  // disc are exact, and the cut carries them in.
+  const auto scene = testing::sphere_scene(96, 0.45, {0, 0, 1});
+  const LightDirections lights = lights_around(4, 40.0, 90.0, 90.0);
+  auto images = photographs(scene, lights, ImageF::Constant(96, 96, 0.6f));
+  Mask disc = Mask::Constant(96, 96, false);
+  for (int r = 0; r < 96; ++r)
+    for (int c = 0; c < 96; ++c)
+      if ((r - 30) * (r - 30) + (c - 48) * (c - 48) < 8 * 8) {
+        images[2](r, c) *= 0.35f;
+        disc(r, c) = true;
+      }
+  const auto ps = photometric_stereo(images, lights, scene.mask);
+  ASSERT_EQ(ps.triple_normals.size(), 4u);
+  const CandidateCutResult cut = choose_candidates(photometric_candidates(ps));
+  double physics = 0.0, chosen = 0.0;
+  int pixels = 0;
+  for (Eigen::Index p = 0; p < scene.normals.size(); ++p) {
+    if (!disc.data()[p] || ps.usable.data()[p] != 3) continue;
+    physics += degrees_between(ps.normals.xyz.row(p), scene.normals.xyz.row(p));
+    chosen += degrees_between(cut.normals.xyz.row(p), scene.normals.xyz.row(p));
+    ++pixels;
+  }
+  ASSERT_GT(pixels, 50);
+  EXPECT_GT(physics / pixels, 1.0);
+  EXPECT_LT(chosen / pixels, 0.05) << "the physics alone: " << physics / pixels;
+}
+
 TEST(ChooseCandidates, WithNothingToChooseEachPixelKeepsItsOneCandidate) {
   // Eight lights around a sphere: three or more light every pixel, so each has one candidate (its fit).
   const auto scene = testing::sphere_scene(64, 0.45, {0, 0, 1});

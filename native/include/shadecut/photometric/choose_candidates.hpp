@@ -24,7 +24,8 @@ struct NormalCandidates {
 };
 
 /// The candidates photometric_stereo leaves: one (its normal) where three or more photographs are
-/// usable, two (first_candidate, second_candidate) where two are, none elsewhere. A candidate that
+/// usable, four (triple_normals, costing their triple_cost less the cheapest's) where one of four is
+/// left out, two (first_candidate, second_candidate) where two are, none elsewhere. A candidate that
 /// faces away from the viewer (n_z < 0) costs -n_z, about its distance to the nearest visible normal:
 /// near the outline noise puts the true normal there too, so it stays a candidate (a pixel left with
 /// one would hold its neighbours to it). Each also costs its shadow conflict: the light it would
@@ -57,7 +58,7 @@ struct CandidateCutResult {
   double initial_energy = 0.0;
   double energy = 0.0;          ///< energy of the cut's result (never above initial_energy), before
                                 ///< integrable_segments
-  int cycles = 0;               ///< cycles run
+  int cycles = 0;               ///< cycles run (the most of any region)
   int accepted_moves = 0;       ///< moves that lowered the energy
   int segments = 0;             ///< segments of two candidates (integrable_segments)
   int switched_segments = 0;    ///< of them, switched to their other candidates
@@ -68,7 +69,10 @@ struct CandidateCutResult {
 /// every pixel that has a candidate k switch to it at once, a minimum cut on the pixel grid with the
 /// core's max-flow solver. The pairs of a move whose term is not submodular are approximated
 /// (Rother et al. 2005) and a move is kept only if the exact energy falls, so the energy never rises.
-/// Cycles stop when a cycle keeps no move or after max_cycles. With two candidates per pixel named
+/// Each 4-connected region of pixels with a choice is cut on its own bounding box: regions meet only
+/// through fixed pixels, so the energy splits exactly between them, and a move's graph spans the
+/// pixels with a choice, not the frame. A region's cycles stop when a cycle keeps no move or after
+/// max_cycles. With two candidates per pixel named
 /// consistently (photometric_candidates: `first` on the viewer's side of the lights' plane), a region
 /// whose whole choice is wrong switches in one move. Then CandidateCutParams::integrable_segments.
 ///
