@@ -35,7 +35,8 @@ const PixelFitter::SetInverse& PixelFitter::set_inverse(const std::vector<int>& 
   for (const int k : set) normal_matrix.noalias() += light(k) * light(k).transpose();
   SetInverse inverse;
   // det(L^T L) is the sum of the squared triple products of the set's lights (Cauchy-Binet).
-  inverse.solvable = normal_matrix.determinant() > kMinTripleProduct * kMinTripleProduct;
+  inverse.determinant = normal_matrix.determinant();
+  inverse.solvable = inverse.determinant > kMinTripleProduct * kMinTripleProduct;
   if (inverse.solvable) inverse.inverse = normal_matrix.inverse();
   if (!cached) return uncached_ = inverse;
   return inverses_.emplace(bits, inverse).first->second;
@@ -78,14 +79,14 @@ double PixelFitter::outlier_cost(int i, const Eigen::Vector3d& scaled) const {
 }
 
 // The photograph of used_ to leave out (its position in used_), -1 if no subset can be fitted. With
-// five or more the data say which: the subset that fits best. With four every subset of three fits
-// exactly, so the physics says (outlier_cost), and the four fits are kept in triples_: the graph cut
-// weighs the same case against each, and its neighbours.
-int PixelFitter::outlier() {
+// five or more the data say which: the rest that fits best (best_left_out). With four every subset of
+// three fits exactly, so the physics says (outlier_cost), and the four fits are kept in triples_: the
+// graph cut weighs the same case against each, and its neighbours.
+int PixelFitter::outlier(const Eigen::Vector3d& scaled_normal) {
+  if (used_.size() >= 5) return best_left_out(scaled_normal);
   int best = -1;
   double best_cost = std::numeric_limits<double>::infinity();
-  const bool four = used_.size() == 4;
-  has_triples_ = four;
+  has_triples_ = true;
   for (std::size_t i = 0; i < used_.size(); ++i) {
     trial_.assign(used_.begin(), used_.end());
     trial_.erase(trial_.begin() + std::ptrdiff_t(i));
@@ -94,11 +95,38 @@ int PixelFitter::outlier() {
       has_triples_ = false;
       continue;
     }
-    const double cost = four ? outlier_cost(int(i), scaled) : rms(trial_, scaled) / scaled.norm();
-    if (four) {
-      triples_.normals[i] = scaled.normalized().cast<float>();
-      triples_.cost[i] = float(cost);
+    const double cost = outlier_cost(int(i), scaled);
+    triples_.normals[i] = scaled.normalized().cast<float>();
+    triples_.cost[i] = float(cost);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = int(i);
     }
+  }
+  return best;
+}
+
+// Of five or more, the photograph whose leaving out leaves the smallest RMS residual over the albedo.
+// Each fit without one comes from the fit of all by the leave-one-out identities of least squares
+// (Sherman-Morrison): x_k = x - A^-1 S_k r_k / (1 - h_k), RSS_k = RSS - r_k^2 / (1 - h_k), with
+// h_k = S_k . A^-1 S_k the leverage; and det(A_k) = det(A) (1 - h_k) says whether the rest fix a normal.
+int PixelFitter::best_left_out(const Eigen::Vector3d& scaled_normal) {
+  has_triples_ = false;
+  const SetInverse& fit = set_inverse(used_);
+  double rss = 0.0;
+  for (const int k : used_) rss += std::pow(intensity_[std::size_t(k)] - scaled_normal.dot(light(k)), 2);
+  int best = -1;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < used_.size(); ++i) {
+    const Eigen::Vector3d& light = this->light(used_[i]);
+    const Eigen::Vector3d spread = fit.inverse * light;
+    const double free = 1.0 - light.dot(spread);
+    if (!(fit.determinant * free > kMinTripleProduct * kMinTripleProduct)) continue;
+    const double residual = intensity_[std::size_t(used_[i])] - scaled_normal.dot(light);
+    const Eigen::Vector3d scaled = scaled_normal - spread * (residual / free);
+    const double albedo = scaled.norm();
+    if (!(albedo > 0.0) || !scaled.allFinite()) continue;
+    const double cost = std::sqrt(std::max(0.0, rss - residual * residual / free) / double(used_.size() - 1)) / albedo;
     if (cost < best_cost) {
       best_cost = cost;
       best = int(i);
@@ -123,13 +151,13 @@ double PixelFitter::largest_deviation(const Eigen::Vector3d& scaled_normal) {
 void PixelFitter::drop_outliers(Eigen::Vector3d& scaled_normal) {
   has_triples_ = false;
   while (used_.size() >= 4 && largest_deviation(scaled_normal) > outlier_tolerance_ * scaled_normal.norm()) {
-    const int drop = outlier();
+    const int drop = outlier(scaled_normal);
     if (drop < 0) {
       has_triples_ = false;
       return;
     }
     used_.erase(used_.begin() + drop);
-    if (!solve(used_, scaled_normal)) return;  // cannot happen: outlier() solved this subset
+    if (!solve(used_, scaled_normal)) return;  // cannot happen: outlier() found this subset solvable
   }
 }
 

@@ -53,6 +53,7 @@ class PixelFitter {
   // the lights are the same at every pixel.
   struct SetInverse {
     bool solvable = false;
+    double determinant = 0.0;
     Eigen::Matrix3d inverse = Eigen::Matrix3d::Zero();
   };
   const SetInverse& set_inverse(const std::vector<int>& set);
@@ -62,7 +63,8 @@ class PixelFitter {
   void select_lit(double threshold);
   double largest_deviation(const Eigen::Vector3d& scaled_normal);
   void drop_outliers(Eigen::Vector3d& scaled_normal);
-  int outlier();
+  int outlier(const Eigen::Vector3d& scaled_normal);
+  int best_left_out(const Eigen::Vector3d& scaled_normal);
   double outlier_cost(int i, const Eigen::Vector3d& scaled) const;
 
   const Eigen::Vector3d& light(int k) const { return lights_.directions()[std::size_t(k)]; }
