@@ -173,7 +173,7 @@ def draw(reading: Reading, title: str, out: Path) -> None:
               (normal_colors(reading.several), f"ShadeCut, all: {error_of(reading, reading.several):.2f}°"),
               (normal_colors(reading.alone[0]), f"photograph 1 alone: {error_of(reading, reading.alone[0]):.2f}°")]
     columns = max(len(reading.images), 3)
-    figure, axes = plt.subplots(2, columns, figsize=(3.2 * columns, 6.8))
+    figure, axes = plt.subplots(2, columns, figsize=(3.2 * columns, 6.8), constrained_layout=True)
     for axis, (picture, caption) in zip(axes[0], shown[:len(reading.images)]):
         axis.imshow(picture, cmap="gray", vmin=0.0, vmax=1.0)
         axis.set_title(caption)
@@ -183,7 +183,6 @@ def draw(reading: Reading, title: str, out: Path) -> None:
     for axis in axes.flat:
         axis.axis("off")
     figure.suptitle(title)
-    figure.tight_layout()
     figure.savefig(out, dpi=60)
 
 
