@@ -18,6 +18,25 @@
 namespace shadecut {
 namespace {
 
+// Whether candidate map k is finite wherever a pixel has more than k candidates (the others never
+// read it). Branch-free over the frame: x * 0 is 0 for a finite x and NaN otherwise.
+bool read_candidates_are_finite(const NormalMap& map, const CountImage& count, int k) {
+  const float* xyz = map.xyz.data();
+  const std::int32_t* counts = count.data();
+  bool finite = true;
+  for (Eigen::Index p = 0; p < count.size(); ++p)
+    finite &= (counts[p] <= k) | (xyz[3 * p] * 0.0f + xyz[3 * p + 1] * 0.0f + xyz[3 * p + 2] * 0.0f == 0.0f);
+  return finite;
+}
+
+// Branch-free: a NaN fails both comparisons.
+bool costs_are_finite_and_not_negative(const ImageF& cost) {
+  bool fine = true;
+  for (Eigen::Index i = 0; i < cost.size(); ++i)
+    fine &= (cost.data()[i] >= 0.0f) & (cost.data()[i] <= std::numeric_limits<float>::max());
+  return fine;
+}
+
 void check_candidates(const NormalCandidates& candidates, const CandidateCutParams& params) {
   if (!(params.smoothness > 0.0) || !std::isfinite(params.smoothness))
     throw InvalidArgument("shadecut: the smoothness weight must be > 0, got " + number_text(params.smoothness));
@@ -34,19 +53,17 @@ void check_candidates(const NormalCandidates& candidates, const CandidateCutPara
       const ImageF& cost = candidates.data_cost[std::size_t(k)];
       if (cost.rows() != rows || cost.cols() != cols)
         throw InvalidArgument("shadecut: data cost map " + std::to_string(k) + " does not have the counts' size");
-      if (!cost.isFinite().all() || (cost < 0.0f).any())
+      if (!costs_are_finite_and_not_negative(cost))
         throw InvalidArgument("shadecut: data cost map " + std::to_string(k) + " holds a negative or non-finite cost");
     }
   }
-  for (int p = 0; p < rows * cols; ++p) {
-    const int count = candidates.count.data()[p];
-    if (count < 0 || count > n)
-      throw InvalidArgument("shadecut: a pixel has " + std::to_string(count) + " candidates; 0 to " +
-                            std::to_string(n) + " are possible");
-    for (int k = 0; k < count; ++k)
-      if (!candidates.normals[std::size_t(k)].xyz.row(p).allFinite())
-        throw InvalidArgument("shadecut: candidate " + std::to_string(k) + " holds a NaN or infinite normal");
-  }
+  const int fewest = candidates.count.minCoeff(), most = candidates.count.maxCoeff();
+  if (fewest < 0 || most > n)
+    throw InvalidArgument("shadecut: a pixel has " + std::to_string(fewest < 0 ? fewest : most) + " candidates; 0 to " +
+                          std::to_string(n) + " are possible");
+  for (int k = 0; k < n; ++k)
+    if (!read_candidates_are_finite(candidates.normals[std::size_t(k)], candidates.count, k))
+      throw InvalidArgument("shadecut: candidate " + std::to_string(k) + " holds a NaN or infinite normal");
 }
 
 // The energy's terms, read from the candidates.
@@ -365,31 +382,28 @@ NormalCandidates photometric_candidates(PhotometricStereoResult result) {
   candidates.count = (result.usable >= 3).cast<std::int32_t>();
   const std::int32_t* usable = result.usable.data();
   const bool pairs = std::find(usable, usable + result.usable.size(), 2) != usable + result.usable.size();
-  const bool triples = !result.triple_normals.empty();
-  if (!pairs && !triples) return candidates;  // nothing to choose: no costs to weigh
-  candidates.data_cost.assign(2, ImageF::Zero(rows, cols));
-  if (triples) {
-    candidates.normals.resize(4, NormalMap(rows, cols));
-    candidates.data_cost.resize(4, ImageF::Zero(rows, cols));
-  }
+  const bool four = !result.four_fits.empty();
+  if (!pairs && !four) return candidates;  // nothing to choose: no costs to weigh
+  candidates.data_cost.assign(four ? 4 : 2, ImageF::Zero(rows, cols));
+  if (four) candidates.normals.resize(4, NormalMap(rows, cols));
   // A candidate that faces away from the viewer costs -n_z, its distance to the nearest visible normal.
   const auto away = [&](std::size_t k, int p) { return std::max(0.0f, -candidates.normals[k].xyz(p, 2)); };
   for (int p = 0; p < rows * cols; ++p) {
-    if (result.usable.data()[p] == 2) {
-      candidates.count.data()[p] = 2;
-      candidates.normals[0].xyz.row(p) = result.first_candidate.xyz.row(p);
-      const float conflict[2] = {result.first_shadow_conflict.data()[p], result.second_shadow_conflict.data()[p]};
-      for (std::size_t k = 0; k < 2; ++k) candidates.data_cost[k].data()[p] = away(k, p) + conflict[k];
-    } else if (triples && result.triple_normals[0].xyz.row(p).squaredNorm() > 0.0f) {
-      // Candidate i leaves out the i-th of the four: the same photograph for every pixel of a region
-      // whose four are the same, so a move switches such a region's choice at once.
-      candidates.count.data()[p] = 4;
-      float cheapest = std::numeric_limits<float>::infinity();
-      for (std::size_t i = 0; i < 4; ++i) cheapest = std::min(cheapest, result.triple_cost[i].data()[p]);
-      for (std::size_t i = 0; i < 4; ++i) {
-        candidates.normals[i].xyz.row(p) = result.triple_normals[i].xyz.row(p);
-        candidates.data_cost[i].data()[p] = away(i, p) + result.triple_cost[i].data()[p] - cheapest;
-      }
+    if (result.usable.data()[p] != 2) continue;
+    candidates.count.data()[p] = 2;
+    candidates.normals[0].xyz.row(p) = result.first_candidate.xyz.row(p);
+    const float conflict[2] = {result.first_shadow_conflict.data()[p], result.second_shadow_conflict.data()[p]};
+    for (std::size_t k = 0; k < 2; ++k) candidates.data_cost[k].data()[p] = away(k, p) + conflict[k];
+  }
+  // Candidate i leaves out the i-th of the four: the same photograph for every pixel of a region whose
+  // four are the same, so a move switches such a region's choice at once.
+  for (const FourFits& fits : result.four_fits) {
+    const int p = fits.pixel;
+    candidates.count.data()[p] = 4;
+    const float cheapest = *std::min_element(fits.cost.begin(), fits.cost.end());
+    for (std::size_t i = 0; i < 4; ++i) {
+      candidates.normals[i].xyz.row(p) = fits.normals[i].transpose();
+      candidates.data_cost[i].data()[p] = away(i, p) + fits.cost[i] - cheapest;
     }
   }
   return candidates;

@@ -99,34 +99,21 @@ PhotometricStereoResult empty_result(int rows, int cols) {
   return result;
 }
 
-// The pixels where the fit chose the outlier among four, with the four fits: gathered per range of
-// rows and stored once all are fitted, since few pixels have them.
-using Triples = std::vector<std::pair<int, detail::TripleChoice>>;
-
 void store_fit(const detail::PixelFit& fit, int r, int c, PhotometricStereoResult& result,
-               std::vector<detail::UsablePair>& pairs, Triples& triples) {
+               std::vector<detail::UsablePair>& pairs, std::vector<FourFits>& four_fits) {
   const int p = r * int(result.usable.cols()) + c;
   result.usable(r, c) = fit.usable;
   if (fit.usable >= 3) {
     result.normals.xyz.row(p) = fit.scaled_normal.normalized().cast<float>().transpose();
     result.albedo(r, c) = float(fit.scaled_normal.norm());
     result.residual(r, c) = float(fit.rms);
-    if (fit.has_triples) triples.emplace_back(p, fit.triples);
+    if (fit.has_four_fits) {
+      four_fits.push_back(fit.four_fits);
+      four_fits.back().pixel = p;
+    }
   } else if (fit.usable == 2) {
     pairs[std::size_t(p)] = fit.pair;
   }
-}
-
-void store_triples(const Triples& triples, PhotometricStereoResult& result) {
-  if (triples.empty()) return;
-  const int rows = result.normals.rows, cols = result.normals.cols;
-  result.triple_normals.assign(4, NormalMap(rows, cols));
-  result.triple_cost.assign(4, ImageF::Zero(rows, cols));
-  for (const auto& [p, choice] : triples)
-    for (std::size_t i = 0; i < 4; ++i) {
-      result.triple_normals[i].xyz.row(p) = choice.normals[i].transpose();
-      result.triple_cost[i].data()[p] = choice.cost[i];
-    }
 }
 
 // Fits every masked pixel; records the fits of three or more and the pairs of two.
@@ -135,8 +122,9 @@ void fit_pixels(const std::vector<ImageF>& images, const std::vector<Eigen::Vect
                 PhotometricStereoResult& result, std::vector<detail::UsablePair>& pairs) {
   const int rows = int(mask.rows()), cols = int(mask.cols());
   pairs.assign(std::size_t(rows) * std::size_t(cols), detail::UsablePair{});
-  Triples triples;
-  std::mutex triples_lock;
+  // Gathered per range of rows, in the ranges' order of finishing, then put in pixel order.
+  std::vector<FourFits> four_fits;
+  std::mutex four_fits_lock;
   // Blocks of rows, so that progress is reported (and Cancelled thrown) on the calling thread.
   constexpr int kBlockRows = 64;
   for (int first = 0; first < rows; first += kBlockRows) {
@@ -144,16 +132,17 @@ void fit_pixels(const std::vector<ImageF>& images, const std::vector<Eigen::Vect
     detail::parallel_ranges(last - first, 4, params.threads, [&](int begin, int end) {
       detail::PixelLights pixel_lights(lights, params.lamps);
       detail::PixelFitter fitter(pixel_lights, params.shadow_fraction, params.outlier_tolerance);
-      Triples found;
+      std::vector<FourFits> found;
       for (int r = first + begin; r < first + end; ++r)
         for (int c = 0; c < cols; ++c)
           if (mask(r, c)) store_fit(fitter.fit(images, clipped, r, c), r, c, result, pairs, found);
-      const std::lock_guard<std::mutex> hold(triples_lock);
-      triples.insert(triples.end(), found.begin(), found.end());
+      const std::lock_guard<std::mutex> hold(four_fits_lock);
+      four_fits.insert(four_fits.end(), found.begin(), found.end());
     });
     progress.report(double(last) / rows, "photometric stereo");
   }
-  store_triples(triples, result);
+  std::sort(four_fits.begin(), four_fits.end(), [](const FourFits& a, const FourFits& b) { return a.pixel < b.pixel; });
+  result.four_fits = std::move(four_fits);
 }
 
 }  // namespace

@@ -28,8 +28,10 @@ const PixelFitter::SetInverse& PixelFitter::set_inverse(const std::vector<int>& 
   std::uint64_t bits = 0;
   if (cached) {
     for (const int k : set) bits |= std::uint64_t(1) << k;
+    if (last_ && bits == last_bits_) return *last_;
+    last_bits_ = bits;
     const auto found = inverses_.find(bits);
-    if (found != inverses_.end()) return found->second;
+    if (found != inverses_.end()) return *(last_ = &found->second);
   }
   Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
   for (const int k : set) normal_matrix.noalias() += light(k) * light(k).transpose();
@@ -37,9 +39,17 @@ const PixelFitter::SetInverse& PixelFitter::set_inverse(const std::vector<int>& 
   // det(L^T L) is the sum of the squared triple products of the set's lights (Cauchy-Binet).
   inverse.determinant = normal_matrix.determinant();
   inverse.solvable = inverse.determinant > kMinTripleProduct * kMinTripleProduct;
-  if (inverse.solvable) inverse.inverse = normal_matrix.inverse();
+  if (inverse.solvable) {
+    inverse.inverse = normal_matrix.inverse();
+    inverse.spread.resize(lights_.directions().size(), Eigen::Vector3d::Zero());
+    inverse.free.resize(lights_.directions().size(), 0.0);
+    for (const int k : set) {
+      inverse.spread[std::size_t(k)] = inverse.inverse * light(k);
+      inverse.free[std::size_t(k)] = 1.0 - light(k).dot(inverse.spread[std::size_t(k)]);
+    }
+  }
   if (!cached) return uncached_ = inverse;
-  return inverses_.emplace(bits, inverse).first->second;
+  return *(last_ = &inverses_.emplace(bits, inverse).first->second);
 }
 
 bool PixelFitter::solve(const std::vector<int>& set, Eigen::Vector3d& scaled_normal) {
@@ -80,24 +90,24 @@ double PixelFitter::outlier_cost(int i, const Eigen::Vector3d& scaled) const {
 
 // The photograph of used_ to leave out (its position in used_), -1 if no subset can be fitted. With
 // five or more the data say which: the rest that fits best (best_left_out). With four every subset of
-// three fits exactly, so the physics says (outlier_cost), and the four fits are kept in triples_: the
+// three fits exactly, so the physics says (outlier_cost), and the four fits are kept in four_fits_: the
 // graph cut weighs the same case against each, and its neighbours.
 int PixelFitter::outlier(const Eigen::Vector3d& scaled_normal) {
   if (used_.size() >= 5) return best_left_out(scaled_normal);
   int best = -1;
   double best_cost = std::numeric_limits<double>::infinity();
-  has_triples_ = true;
+  has_four_fits_ = true;
   for (std::size_t i = 0; i < used_.size(); ++i) {
     trial_.assign(used_.begin(), used_.end());
     trial_.erase(trial_.begin() + std::ptrdiff_t(i));
     Eigen::Vector3d scaled;
     if (!solve(trial_, scaled) || !(scaled.norm() > 0.0)) {
-      has_triples_ = false;
+      has_four_fits_ = false;
       continue;
     }
     const double cost = outlier_cost(int(i), scaled);
-    triples_.normals[i] = scaled.normalized().cast<float>();
-    triples_.cost[i] = float(cost);
+    four_fits_.normals[i] = scaled.normalized().cast<float>();
+    four_fits_.cost[i] = float(cost);
     if (cost < best_cost) {
       best_cost = cost;
       best = int(i);
@@ -110,23 +120,23 @@ int PixelFitter::outlier(const Eigen::Vector3d& scaled_normal) {
 // Each fit without one comes from the fit of all by the leave-one-out identities of least squares
 // (Sherman-Morrison): x_k = x - A^-1 S_k r_k / (1 - h_k), RSS_k = RSS - r_k^2 / (1 - h_k), with
 // h_k = S_k . A^-1 S_k the leverage; and det(A_k) = det(A) (1 - h_k) says whether the rest fix a normal.
+// Compared squared, RSS_k / |x_k|^2, over the same count: the same order without a root per candidate.
 int PixelFitter::best_left_out(const Eigen::Vector3d& scaled_normal) {
-  has_triples_ = false;
   const SetInverse& fit = set_inverse(used_);
   double rss = 0.0;
   for (const int k : used_) rss += std::pow(intensity_[std::size_t(k)] - scaled_normal.dot(light(k)), 2);
   int best = -1;
   double best_cost = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < used_.size(); ++i) {
-    const Eigen::Vector3d& light = this->light(used_[i]);
-    const Eigen::Vector3d spread = fit.inverse * light;
-    const double free = 1.0 - light.dot(spread);
+    const std::size_t k = std::size_t(used_[i]);
+    const Eigen::Vector3d& spread = fit.spread[k];
+    const double free = fit.free[k];
     if (!(fit.determinant * free > kMinTripleProduct * kMinTripleProduct)) continue;
-    const double residual = intensity_[std::size_t(used_[i])] - scaled_normal.dot(light);
+    const double residual = intensity_[k] - scaled_normal.dot(light(used_[i]));
     const Eigen::Vector3d scaled = scaled_normal - spread * (residual / free);
-    const double albedo = scaled.norm();
-    if (!(albedo > 0.0) || !scaled.allFinite()) continue;
-    const double cost = std::sqrt(std::max(0.0, rss - residual * residual / free) / double(used_.size() - 1)) / albedo;
+    const double squared_albedo = scaled.squaredNorm();
+    if (!(squared_albedo > 0.0) || !scaled.allFinite()) continue;
+    const double cost = std::max(0.0, rss - residual * residual / free) / squared_albedo;
     if (cost < best_cost) {
       best_cost = cost;
       best = int(i);
@@ -136,26 +146,22 @@ int PixelFitter::best_left_out(const Eigen::Vector3d& scaled_normal) {
 }
 
 double PixelFitter::largest_deviation(const Eigen::Vector3d& scaled_normal) {
-  const Eigen::Matrix3d& inverse = set_inverse(used_).inverse;
+  const SetInverse& fit = set_inverse(used_);
   double largest = 0.0;
   for (const int k : used_) {
-    const Eigen::Vector3d& light = this->light(k);
     // The residual over one minus the leverage: the photograph against the fit of the others.
-    const double free = 1.0 - light.dot(inverse * light);
-    const double residual = intensity_[std::size_t(k)] - scaled_normal.dot(light);
+    const double free = fit.free[std::size_t(k)];
+    const double residual = intensity_[std::size_t(k)] - scaled_normal.dot(light(k));
     if (free > 1e-9) largest = std::max(largest, std::abs(residual) / free);
   }
   return largest;
 }
 
 void PixelFitter::drop_outliers(Eigen::Vector3d& scaled_normal) {
-  has_triples_ = false;
+  has_four_fits_ = false;
   while (used_.size() >= 4 && largest_deviation(scaled_normal) > outlier_tolerance_ * scaled_normal.norm()) {
     const int drop = outlier(scaled_normal);
-    if (drop < 0) {
-      has_triples_ = false;
-      return;
-    }
+    if (drop < 0) return;  // outlier() found no subset solvable, so it kept no four fits
     used_.erase(used_.begin() + drop);
     if (!solve(used_, scaled_normal)) return;  // cannot happen: outlier() found this subset solvable
   }
@@ -197,8 +203,8 @@ PixelFit PixelFitter::fit(const std::vector<ImageF>& images, const std::vector<M
     drop_outliers(scaled);
     fit.scaled_normal = scaled;
     fit.rms = rms(used_, scaled);
-    fit.has_triples = has_triples_;
-    if (has_triples_) fit.triples = triples_;
+    fit.has_four_fits = has_four_fits_;
+    if (has_four_fits_) fit.four_fits = four_fits_;
   } else if (used_.size() == 2) {
     fit.pair = {used_[0], used_[1], float(intensity_[std::size_t(used_[0])]), float(intensity_[std::size_t(used_[1])])};
   }

@@ -21,21 +21,13 @@ struct UsablePair {
   float intensity_a = 0.0f, intensity_b = 0.0f;
 };
 
-/// A pixel where four photographs were usable and one of them missed the others' fit: the fit of each
-/// three (normals[i] leaves out the i-th of the four, in the photographs' order) and the physics'
-/// case against leaving that one out (PhotometricStereoResult::triple_cost).
-struct TripleChoice {
-  std::array<Eigen::Vector3f, 4> normals;
-  std::array<float, 4> cost{};
-};
-
 struct PixelFit {
   int usable = 0;                                       ///< photographs used
   Eigen::Vector3d scaled_normal = Eigen::Vector3d::Zero();  ///< albedo * n (usable >= 3)
   double rms = 0.0;                                     ///< RMS residual of the fit (usable >= 3)
   UsablePair pair;                                      ///< usable == 2
-  bool has_triples = false;                             ///< the outlier was one of four
-  TripleChoice triples;                                 ///< has_triples
+  bool has_four_fits = false;                           ///< the outlier was one of four
+  FourFits four_fits;                                   ///< has_four_fits (its pixel not set)
 };
 
 /// Fits pixels one at a time, reusing its buffers; one per thread.
@@ -50,11 +42,15 @@ class PixelFitter {
 
  private:
   // (sum over the set of S S^T)^-1, and whether the set's lights fix a normal; cached per set while
-  // the lights are the same at every pixel.
+  // the lights are the same at every pixel. For each photograph k of a solvable set, indexed by k:
+  // spread[k] = A^-1 S_k and free[k] = 1 - S_k . A^-1 S_k (one minus its leverage), which the
+  // leave-one-out identities read at every pixel of the set.
   struct SetInverse {
     bool solvable = false;
     double determinant = 0.0;
     Eigen::Matrix3d inverse = Eigen::Matrix3d::Zero();
+    std::vector<Eigen::Vector3d> spread;
+    std::vector<double> free;
   };
   const SetInverse& set_inverse(const std::vector<int>& set);
 
@@ -74,10 +70,13 @@ class PixelFitter {
   std::vector<double> intensity_;
   std::vector<int> available_, used_, previous_, trial_;
   // outlier()'s four three-photograph fits, kept when it chose among four.
-  TripleChoice triples_;
-  bool has_triples_ = false;
+  FourFits four_fits_;
+  bool has_four_fits_ = false;
   // The sets met so far, by their bits (photographs 0..63); more photographs are not cached.
   std::unordered_map<std::uint64_t, SetInverse> inverses_;
+  // The last set looked up: the next pixel's is mostly the same (the map's nodes never move).
+  std::uint64_t last_bits_ = 0;
+  const SetInverse* last_ = nullptr;
   SetInverse uncached_;
 };
 

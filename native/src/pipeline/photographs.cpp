@@ -65,7 +65,8 @@ void check_photographs(const std::vector<Observation>& photographs, const Mask* 
 
 // The albedo per pixel (and channel) fitted to the chosen normals over the photographs usable there
 // (photometric_colour_albedo), and how far the photographs are from the result.
-void fit_albedo_and_residual(const std::vector<Observation>& photographs, const LightDirections& lights,
+void fit_albedo_and_residual(const std::vector<Observation>& photographs, const std::vector<ImageF>& images,
+                             const LightDirections& lights,
                              const PhotometricStereoParams& params, Reconstruction& result) {
   if (photographs.front().has_colour()) {
     std::vector<ColourImage> colours;
@@ -73,7 +74,6 @@ void fit_albedo_and_residual(const std::vector<Observation>& photographs, const 
     result.albedo_colour = photometric_colour_albedo(colours, lights, result.normals, result.mask, {}, params);
     result.albedo_map = luminance(result.albedo_colour);
   } else {
-    const std::vector<ImageF> images = grey_images(photographs);
     result.albedo_map = photometric_albedo(images, lights, result.normals, result.mask, {}, params);
   }
   result.residual = ImageF::Zero(result.mask.rows(), result.mask.cols());
@@ -106,10 +106,9 @@ void count_usable(const PhotometricStereoResult& fitted, ReconstructStats& stats
 
 // The normals the photographs give: fitted where three or more are usable, chosen by the graph cut
 // where two leave two; `fill` marks the pixels with fewer, whose normals the surface fills in.
-NormalMap photographs_normals(const std::vector<Observation>& photographs, const LightDirections& directions,
+NormalMap photographs_normals(const std::vector<ImageF>& images, const LightDirections& directions,
                               const Mask& mask, const PhotometricStereoParams& params, const ReconstructOptions& options,
                               const Progress& progress, Mask& fill, ReconstructStats& stats) {
-  const std::vector<ImageF> images = grey_images(photographs);
   Stopwatch stage;
   PhotometricStereoResult fitted = photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kFitShare));
   stats.seconds["photometric stereo"] += stage.seconds();
@@ -132,7 +131,8 @@ NormalMap photographs_normals(const std::vector<Observation>& photographs, const
 
 // The photographs' lights, normalized: given, or estimated from them (estimate_photometric_lights)
 // with the options' hint, the stats saying so.
-std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& photographs, const Mask& mask,
+std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& photographs,
+                                                const std::vector<ImageF>& images, const Mask& mask,
                                                 const ReconstructOptions& options, const Progress& progress,
                                                 ReconstructStats& stats) {
   std::vector<Eigen::Vector3d> lights;
@@ -145,7 +145,6 @@ std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& 
   }
   progress.report(0.0, "light");
   const Stopwatch stage;
-  const std::vector<ImageF> images = grey_images(photographs);
   LightHint hint;
   hint.slant = options.light_slant;
   hint.first_tilt = options.first_light_tilt;
@@ -160,10 +159,10 @@ std::vector<Eigen::Vector3d> photographs_lights(const std::vector<Observation>& 
 // Two photographs: every pixel both light keeps a circle of normals whatever its albedo, and nothing in
 // the pair says where on it; the photographs read alone by the paper's graph cut anchor it (the
 // nearest point). Pixels lit in fewer keep the anchor.
-Surface two_photographs_surface(const std::vector<Observation>& photographs, const LightDirections& directions,
+Surface two_photographs_surface(const std::vector<Observation>& photographs, const std::vector<ImageF>& images,
+                                const LightDirections& directions,
                                 const Mask& mask, const PhotometricStereoParams& params,
                                 const ReconstructOptions& options, const Progress& progress, ReconstructStats& stats) {
-  const std::vector<ImageF> images = grey_images(photographs);
   Stopwatch stage;
   const PhotometricStereoResult fitted =
       photometric_stereo(images, directions, mask, {}, params, progress.range(0.0, kTwoFitShare));
@@ -189,12 +188,14 @@ Surface two_photographs_surface(const std::vector<Observation>& photographs, con
 }
 
 // The surface of one reading of the photographs: their normals, then the depth.
-Surface photographs_surface(const std::vector<Observation>& photographs, const LightDirections& directions,
+Surface photographs_surface(const std::vector<Observation>& photographs, const std::vector<ImageF>& images,
+                            const LightDirections& directions,
                             const Mask& mask, const PhotometricStereoParams& params, const ReconstructOptions& options,
                             const Progress& progress, ReconstructStats& stats) {
-  if (photographs.size() == 2) return two_photographs_surface(photographs, directions, mask, params, options, progress, stats);
+  if (photographs.size() == 2)
+    return two_photographs_surface(photographs, images, directions, mask, params, options, progress, stats);
   Mask fill;
-  NormalMap normals = photographs_normals(photographs, directions, mask, params, options, progress, fill, stats);
+  NormalMap normals = photographs_normals(images, directions, mask, params, options, progress, fill, stats);
   progress.report(kCutShare, "integration");
   const Stopwatch integration;
   Surface surface = surface_from_normals(std::move(normals), mask, fill, edge_is_outline(options), options.integrator,
@@ -253,7 +254,9 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   const ThreadCountScope threads(options.threads);
   Reconstruction result;
   result.mask = mask;
-  result.lights = photographs_lights(photographs, mask, options, progress, result.stats);
+  // The photographs' grey images, copied once for the photometric functions, which read them all.
+  const std::vector<ImageF> images = grey_images(photographs);
+  result.lights = photographs_lights(photographs, images, mask, options, progress, result.stats);
   result.light = result.lights.front();
   result.stats.photographs = int(photographs.size());
   LightDirections directions(Eigen::Index(photographs.size()), 3);
@@ -273,7 +276,7 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
     if (options.light_distance > 0.0)
       params.lamps = lamps_around(options.light_distance, mask,
                                   pass > 0 ? std::move(surface.depth) : ImageF(ImageF::Zero(mask.rows(), mask.cols())));
-    surface = photographs_surface(photographs, directions, mask, params, options,
+    surface = photographs_surface(photographs, images, directions, mask, params, options,
                                   reading.range(double(pass) / passes, double(pass + 1) / passes), result.stats);
   }
   if (outline_decides && outline_agreement(surface.normals, mask) < 0.0) {
@@ -281,8 +284,8 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
     for (Eigen::Vector3d& light : result.lights) light.head<2>() *= -1.0;
     result.light = result.lights.front();
     result.stats.lights_turned_by_outline = true;
-    surface = photographs_surface(photographs, directions, mask, params, options, progress.range(kOutlineShare, 1.0),
-                                  result.stats);
+    surface = photographs_surface(photographs, images, directions, mask, params, options,
+                                  progress.range(kOutlineShare, 1.0), result.stats);
   }
   if (options.light_distance > 0.0) params.lamps = lamps_around(options.light_distance, mask, surface.depth);
   result.normals = std::move(surface.normals);
@@ -291,7 +294,7 @@ Reconstruction reconstruct_photographs(const std::vector<Observation>& photograp
   // A relief sits on a flat carrier; its normals stay the photographs', which hold its large forms too.
   if (options.scene == SceneKind::Relief && !options.seamless) flatten_relief(result.depth, mask);
   const Stopwatch albedo_fit;
-  fit_albedo_and_residual(photographs, directions, params, result);
+  fit_albedo_and_residual(photographs, images, directions, params, result);
   result.stats.seconds["albedo"] = albedo_fit.seconds();
   const ImageF fitted_albedo = mask.select(result.albedo_map, 0.0f);
   std::vector<float> values;

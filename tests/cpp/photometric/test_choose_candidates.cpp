@@ -119,7 +119,7 @@ TEST(ChooseCandidates, ACastShadowAmongFourPhotographsIsSettledByItsNeighbours) 
         disc(r, c) = true;
       }
   const auto ps = photometric_stereo(images, lights, scene.mask);
-  ASSERT_EQ(ps.triple_normals.size(), 4u);
+  ASSERT_FALSE(ps.four_fits.empty());
   const CandidateCutResult cut = choose_candidates(photometric_candidates(ps));
   double physics = 0.0, chosen = 0.0;
   int pixels = 0;
@@ -174,6 +174,18 @@ TEST(ChooseCandidates, RefusesBadInput) {
   auto nan = candidates;
   nan.normals[0].xyz(3, 0) = std::numeric_limits<float>::quiet_NaN();
   EXPECT_THROW(choose_candidates(nan), InvalidArgument);
+  auto infinite = candidates;
+  infinite.normals[1].xyz(5, 2) = -std::numeric_limits<float>::infinity();
+  EXPECT_THROW(choose_candidates(infinite), InvalidArgument);
+  auto infinite_cost = candidates;
+  infinite_cost.data_cost.assign(2, ImageF::Zero(4, 4));
+  infinite_cost.data_cost[1](0, 3) = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(choose_candidates(infinite_cost), InvalidArgument);
+  // A candidate a pixel does not have is never read: whatever it holds there is no error.
+  auto unread = candidates;
+  unread.count(3, 3) = 1;
+  unread.normals[1].xyz(15, 0) = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_NO_THROW(choose_candidates(unread));
   CandidateCutParams zero;
   zero.smoothness = 0.0;
   EXPECT_THROW(choose_candidates(candidates, zero), InvalidArgument);

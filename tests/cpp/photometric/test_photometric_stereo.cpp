@@ -90,23 +90,20 @@ TEST(PhotometricStereo, WhereOneOfFourIsLeftOutItsFourFitsAreKept) {
   const auto scene = testing::sphere_scene(96, 0.45, {0, 0, 1});
   const LightDirections lights = lights_around(4, 40.0, 90.0, 90.0);
   const auto clean = photometric_stereo(photographs(scene, lights, painted_albedo(96, 96)), lights, scene.mask);
-  EXPECT_TRUE(clean.triple_normals.empty());  // nothing to choose
+  EXPECT_TRUE(clean.four_fits.empty());  // nothing to choose
   const auto images = with_highlights(photographs(scene, lights, painted_albedo(96, 96)), scene, lights, 0.5);
   const auto result = photometric_stereo(images, lights, scene.mask);
-  ASSERT_EQ(result.triple_normals.size(), 4u);
-  ASSERT_EQ(result.triple_cost.size(), 4u);
-  int kept = 0;
-  for (Eigen::Index p = 0; p < scene.normals.size(); ++p) {
-    if (result.triple_normals[0].xyz.row(p).squaredNorm() == 0.0f) continue;
+  int kept = 0, previous = -1;
+  for (const FourFits& fits : result.four_fits) {
+    const int p = fits.pixel;
+    EXPECT_GT(p, previous);  // in pixel order, each once
+    previous = p;
     ++kept;
-    std::size_t cheapest = 0;
+    const std::size_t cheapest = std::size_t(std::min_element(fits.cost.begin(), fits.cost.end()) - fits.cost.begin());
     double nearest = 180.0;
-    for (std::size_t i = 0; i < 4; ++i) {
-      if (result.triple_cost[i].data()[p] < result.triple_cost[cheapest].data()[p]) cheapest = i;
-      nearest = std::min(nearest, degrees_between(result.triple_normals[i].xyz.row(p), scene.normals.xyz.row(p)));
-    }
+    for (std::size_t i = 0; i < 4; ++i) nearest = std::min(nearest, degrees_between(fits.normals[i], scene.normals.xyz.row(p)));
     EXPECT_EQ(result.usable.data()[p], 3);
-    EXPECT_LT(degrees_between(result.normals.xyz.row(p), result.triple_normals[cheapest].xyz.row(p)), 1e-3);
+    EXPECT_LT(degrees_between(result.normals.xyz.row(p), fits.normals[cheapest]), 1e-3);
     EXPECT_LT(nearest, 0.05);  // the three without the highlight
   }
   EXPECT_GT(kept, 50);

@@ -24,7 +24,7 @@ struct NormalCandidates {
 };
 
 /// The candidates photometric_stereo leaves: one (its normal) where three or more photographs are
-/// usable, four (triple_normals, costing their triple_cost less the cheapest's) where one of four is
+/// usable, four (four_fits, costing each its cost less the cheapest's) where one of four is
 /// left out, two (first_candidate, second_candidate) where two are, none elsewhere. A candidate that
 /// faces away from the viewer (n_z < 0) costs -n_z, about its distance to the nearest visible normal:
 /// near the outline noise puts the true normal there too, so it stays a candidate (a pixel left with

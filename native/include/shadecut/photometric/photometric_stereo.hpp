@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -31,6 +32,18 @@ struct NearLamps {
   /// Camera frame, pixel units, where pixel (r, c) of the surface is (c, -r, depth(r, c)).
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   ImageF depth;  ///< H x W, pixel units: the surface's depth; empty = 0 everywhere
+};
+
+/// A pixel where four photographs are usable and one misses the others' fit (a highlight, a cast
+/// shadow). Any three of the four fit exactly, so the four cannot say which one to leave out:
+/// normals[i] is the unit normal of the three without the i-th of the four (in the photographs'
+/// order), and cost[i] the physics' case against leaving that one out: 1 - n . H, H its half vector,
+/// where it is brighter than the three predict (a highlight lies where H meets the normal);
+/// max(0, n . S) where it is darker (a cast shadow, likeliest where its light grazes).
+struct FourFits {
+  int pixel = 0;  ///< row-major index
+  std::array<Eigen::Vector3f, 4> normals;
+  std::array<float, 4> cost{};
 };
 
 struct PhotometricStereoParams {
@@ -85,16 +98,9 @@ struct PhotometricStereoResult {
   /// the true normal where the darkness is its own shadow (it faces away from those lights); a cast
   /// shadow darkens a photograph whatever the normal, so this is evidence, not a rule. 0 elsewhere.
   ImageF first_shadow_conflict, second_shadow_conflict;
-  /// Empty where no pixel has the choice, else 4 maps H x W each. At a pixel where four photographs
-  /// are usable and one misses the others' fit (a highlight, a cast shadow), any three of the four
-  /// fit exactly, so the four cannot say which one to leave out: triple_normals[i] is the unit
-  /// normal of the three without the i-th of the four (in the photographs' order), and
-  /// triple_cost[i] the physics' case against leaving that one out: 1 - n . H, H its half vector,
-  /// where it is brighter than the three predict (a highlight lies where H meets the normal);
-  /// max(0, n . S) where it is darker (a cast shadow, likeliest where its light grazes). `normals`
-  /// holds the cheapest. (0, 0, 0) and 0 at other pixels.
-  std::vector<NormalMap> triple_normals;
-  std::vector<ImageF> triple_cost;
+  /// The pixels whose fit chose which of four photographs to leave out, by pixel index (few: kept
+  /// sparse); `normals` holds the cheapest of each one's four fits.
+  std::vector<FourFits> four_fits;
   std::int64_t dark_pixels = 0;    ///< masked pixels with no usable photograph (dark in every one)
   std::int64_t single_pixels = 0;  ///< masked pixels with exactly one usable photograph
   std::int64_t pair_pixels = 0;    ///< masked pixels with exactly two
@@ -108,7 +114,7 @@ struct PhotometricStereoResult {
 /// PhotometricStereoParams::shadow_fraction, judged against the albedo of a first fit and refitted)
 /// give, if three or more, n and the albedo by least squares; with four or more the fit drops
 /// outliers (PhotometricStereoParams::outlier_tolerance; where it chose among four, the four fits are
-/// kept: triple_normals). Two give two candidate normals, one or none nothing (usable says which).
+/// kept: four_fits). Two give two candidate normals, one or none nothing (usable says which).
 ///
 /// @param[in] images  K >= 2 photographs, each H x W linear intensity on one common scale (divide
 ///                    each by its light's intensity first), finite.
