@@ -196,6 +196,12 @@ std::string pair_text(const shadecut::ReconstructStats& stats) {
   return " chosen from two by the graph cut (" + std::to_string(stats.cycles) + " cycles)";
 }
 
+// Where one of four photographs missed the others' fit, the graph cut chose which to leave out.
+std::string four_fits_text(const shadecut::ReconstructStats& stats) {
+  if (stats.four_fit_pixels == 0) return "";
+  return " (" + std::to_string(stats.four_fit_pixels) + " of them from three of four, the graph cut choosing which to leave out)";
+}
+
 // What was done, with the time it took. One photograph: the method, the albedo and the graph cut's
 // work; several: how the pixels' normals came, by how many photographs were usable there.
 std::string work_text(const shadecut::cli::Arguments& arguments, const shadecut::Reconstruction& result) {
@@ -207,8 +213,9 @@ std::string work_text(const shadecut::cli::Arguments& arguments, const shadecut:
   } else {
     const std::int64_t fewer = stats.single_pixels + stats.dark_pixels;
     text << "photometric stereo of " << stats.photographs << " photographs, " << (arguments.albedo ? "albedo " : "median albedo ")
-         << result.albedo << ": " << result.mask.count() - stats.pair_pixels - fewer << " pixels fitted from three or more, "
-         << stats.pair_pixels << pair_text(stats) << ", " << fewer << " lit in fewer filled from their neighbours";
+         << result.albedo << ": " << result.mask.count() - stats.pair_pixels - fewer << " pixels fitted from three or more"
+         << four_fits_text(stats) << ", " << stats.pair_pixels << pair_text(stats) << ", " << fewer
+         << " lit in fewer filled from their neighbours";
   }
   text << ", " << stats.seconds.at("total") << " s";
   return text.str();

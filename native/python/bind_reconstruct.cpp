@@ -133,6 +133,8 @@ void bind_stats(py::module_& m) {
       .def_readonly("photographs", &ReconstructStats::photographs, "how many photographs the call read")
       .def_readonly("pair_pixels", &ReconstructStats::pair_pixels,
                     "several photographs: masked pixels where two were usable (the graph cut chose between two normals)")
+      .def_readonly("four_fit_pixels", &ReconstructStats::four_fit_pixels,
+                    "several photographs: masked pixels fitted from three of four, the graph cut choosing which to leave out")
       .def_readonly("single_pixels", &ReconstructStats::single_pixels,
                     "several photographs: masked pixels where one was usable (filled from their neighbours)")
       .def_readonly("dark_pixels", &ReconstructStats::dark_pixels,

@@ -98,6 +98,27 @@ def test_four_photographs_in_one_click_give_the_true_normals_and_the_maps_wired(
     assert nodes[NORMAL_NODE].outputs["Normal"].links[0].to_node == shader
 
 
+def test_the_finish_report_says_where_the_graph_cut_chose_which_of_four_to_leave_out(addon, tmp_path):
+    """A shiny sphere: where one photograph's highlight misses the others' fit the graph cut chose which
+    of the four to leave out, and the report counts those pixels as the library does."""
+    scene = synthetic.sphere((0.0, 0.0, 1.0), size=SIZE)
+    names = [f"shiny_{index}.png" for index in range(len(AROUND))]
+    for name, light in zip(names, AROUND):
+        half = light / np.linalg.norm(light) + [0.0, 0.0, 1.0]
+        highlight = 0.5 * np.clip(scene.normals @ (half / np.linalg.norm(half)), 0.0, None) ** 50
+        image = shadecut.render(scene.normals, light, 0.6, scene.mask) + (highlight * scene.mask).astype(np.float32)
+        shadecut.save_image(tmp_path / name, image, scene.mask)
+    with_typed_lights((scene, tmp_path, names))
+    job = reconstruct_job.prepare_job(bpy.context)
+    job.run()
+    operator = Reports()
+    assert reconstruct_job.finish_job(operator, bpy.context, job) == {"FINISHED"}
+    four = job.result.stats.four_fit_pixels
+    assert four > 0
+    assert (f"; {four:,} where one of four disagreed (a highlight or a cast shadow): the graph cut chose which to "
+            "leave out)") in operator.last[1]
+
+
 def test_lamps_near_the_subject_at_the_typed_distance(addon, tmp_path):
     """Four photographs under lamps one picture width away, their directions typed and Lamp distance
     set: the normals are those of the library's near-lamp reading (tests/python/test_near_lamps.py)."""

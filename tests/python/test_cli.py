@@ -337,6 +337,27 @@ def test_the_summary_of_several_photographs_counts_as_the_library_does(tmp_path)
             f"({stats.cycles} cycles), {stats.single_pixels + stats.dark_pixels} lit in fewer filled") in rim.stdout
 
 
+def test_the_summary_says_where_the_graph_cut_chose_which_of_four_to_leave_out(tmp_path):
+    """A shiny sphere under four lights: where one photograph's highlight misses the others' fit, any
+    three of the four fit exactly and the graph cut chooses which to leave out; the line counts those
+    pixels as the library does, and says nothing of them where no photograph shines."""
+    sphere = synthetic.sphere((0.0, 0.0, 1.0), size=64)
+    lights = np.array([[float(v) for v in light.split(",")] for light in AROUND])
+    paths = [tmp_path / f"shiny{k}.png" for k in range(len(lights))]
+    for path, light in zip(paths, lights):
+        half = (light / np.linalg.norm(light) + [0.0, 0.0, 1.0])
+        highlight = 0.5 * np.clip(sphere.normals @ (half / np.linalg.norm(half)), 0.0, None) ** 50
+        image = shadecut.render(sphere.normals, light, 0.6, sphere.mask) + highlight.astype(np.float32) * sphere.mask
+        shadecut.save_image(path, image, sphere.mask)
+    loaded = [shadecut.load_image(path) for path in paths]
+    stats = shadecut.reconstruct([image.image for image in loaded], lights, loaded[0].mask).stats
+    assert stats.four_fit_pixels > 0
+    shiny = run(*paths, *with_lights(AROUND), "--out", tmp_path / "shiny", "--quiet")
+    assert shiny.returncode == 0, shiny.stderr
+    assert (f" pixels fitted from three or more ({stats.four_fit_pixels} of them from three of four, the graph cut "
+            "choosing which to leave out), ") in shiny.stdout
+
+
 def test_lights_named_by_their_sides(tmp_path):
     """--light top: a light from that side at the slant a light nobody measured is given."""
     scene = synthetic.bumps((0.0, 0.0, 1.0), size=64)

@@ -319,13 +319,16 @@ def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
 
 def _lights_used(job: Job) -> str:
     """What the finish report says of the light: its direction; of several photographs, how many, their
-    lights' origin and how many pixels fewer than three of them lit."""
+    lights' origin, how many pixels fewer than three of them lit and where the graph cut chose which
+    of four to leave out."""
     stats = job.result.stats
     if stats.photographs == 1:
         return f"{job.light_origin} ({_direction_text(job.result.light)})"
     origin = _estimated_lights(job) if stats.light_estimated else job.light_origin
+    four = (f"; {stats.four_fit_pixels:,} where one of four disagreed (a highlight or a cast shadow): the graph "
+            "cut chose which to leave out" if stats.four_fit_pixels else "")
     return (f"{stats.photographs} photographs under {origin} ({stats.pair_pixels:,} pixels lit in only two "
-            f"of them, {stats.single_pixels + stats.dark_pixels:,} in fewer: filled from around)")
+            f"of them, {stats.single_pixels + stats.dark_pixels:,} in fewer: filled from around{four})")
 
 
 def _direction_text(direction) -> str:

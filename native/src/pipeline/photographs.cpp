@@ -97,9 +97,11 @@ void fit_albedo_and_residual(const std::vector<Observation>& photographs, const 
   });
 }
 
-// How many pixels were lit in two, one or no photograph, into the call's stats.
+// How many pixels were lit in two, one or no photograph, and how many chose which of four to leave
+// out, into the call's stats.
 void count_usable(const PhotometricStereoResult& fitted, ReconstructStats& stats) {
   stats.pair_pixels = fitted.pair_pixels;
+  stats.four_fit_pixels = std::int64_t(fitted.four_fits.size());
   stats.single_pixels = fitted.single_pixels;
   stats.dark_pixels = fitted.dark_pixels;
 }

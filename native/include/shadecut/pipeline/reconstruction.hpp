@@ -79,9 +79,12 @@ struct ReconstructStats {
   double brighter_than_albedo = 0.0;
   std::string albedo_message;
   /// How many photographs the call read; with several, the masked pixels where two were usable (the
-  /// graph cut chose between their two normals), one, and none (both filled from their neighbours).
+  /// graph cut chose between their two normals), one, and none (both filled from their neighbours),
+  /// and of those fitted from three or more, the ones where four were usable and one missed the
+  /// others' fit (the graph cut chose which of the four to leave out: PhotometricStereoResult::four_fits).
   int photographs = 1;
   std::int64_t pair_pixels = 0;
+  std::int64_t four_fit_pixels = 0;
   std::int64_t single_pixels = 0;
   std::int64_t dark_pixels = 0;
   /// Several photographs, lights estimated, an object: its outline turned the lights the hint's first
