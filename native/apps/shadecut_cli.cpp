@@ -7,6 +7,7 @@
 #include <shadecut/pipeline/reconstruct.hpp>
 #include <shadecut/support/errors.hpp>
 
+#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
@@ -173,6 +174,14 @@ std::string ratio_text(double inverted, double kept) {
 
 // How the light was estimated, " (estimated by zheng_chellappa)", or "" when given; with several
 // photographs, every light found.
+// "0,0.7071,0.7071": each component to four decimals, so that a light from the side named "top" does not
+// read 4.32978e-17 across and a component that rounds to zero has no sign.
+std::string light_text(const Eigen::Vector3d& light) {
+  std::ostringstream text;
+  for (int i = 0; i < 3; ++i) text << (i > 0 ? "," : "") << std::round(light[i] * 1e4) / 1e4 + 0.0;
+  return text.str();
+}
+
 std::string estimated_text(const shadecut::cli::Arguments& arguments, const shadecut::Reconstruction& result) {
   if (!result.stats.light_estimated) return "";
   if (result.stats.photographs == 1)
@@ -181,7 +190,7 @@ std::string estimated_text(const shadecut::cli::Arguments& arguments, const shad
   text << " (estimated from the photographs at " << arguments.options.light_slant << " degrees from the viewer, their turn "
        << "about it within " << result.stats.light_uncertainty << " degrees; the others ";
   for (std::size_t k = 1; k < result.lights.size(); ++k)
-    text << (k > 1 ? "; " : "") << result.lights[k].x() << "," << result.lights[k].y() << "," << result.lights[k].z();
+    text << (k > 1 ? "; " : "") << light_text(result.lights[k]);
   if (result.stats.lights_turned_by_outline)
     text << "; turned by half a circle from --first-light-tilt's side: the object's outline showed it inside out";
   text << ")";
@@ -233,9 +242,8 @@ std::string orientation_text(const shadecut::cli::Arguments& arguments, const sh
 }
 
 void print_summary(const shadecut::cli::Arguments& arguments, const shadecut::Reconstruction& result) {
-  const Eigen::Vector3d& used = result.light;
   const shadecut::ReconstructStats& stats = result.stats;
-  std::cout << "light " << used.x() << "," << used.y() << "," << used.z() << estimated_text(arguments, result)
+  std::cout << "light " << light_text(result.light) << estimated_text(arguments, result)
             << (stats.photographs > 1 ? " and " + std::to_string(stats.photographs - 1) + " more" : "") << "\n"
             << work_text(arguments, result) << "\n"
             << orientation_text(arguments, stats);

@@ -369,6 +369,8 @@ def test_lights_named_by_their_sides(tmp_path):
     done = run(*paths, *with_lights(sides), "--out", tmp_path / "out", "--quiet")
     assert done.returncode == 0, done.stderr
     assert scene.mean_error(np.asarray(shadecut.load_image(tmp_path / "out" / "normals.exr").colour)) < 2.0
+    # The light used, to four decimals: from the top, (0, sin 45, cos 45), not 4.32978e-17 across.
+    assert done.stdout.startswith("light 0,0.7071,0.7071 and 3 more\n"), done.stdout
     wrong = run(paths[0], "--light", "sideways", "--out", tmp_path / "wrong", "--quiet")
     assert wrong.returncode == 2 and "three numbers X,Y,Z or a side such as top; got 'sideways'" in wrong.stderr
     assert "top, bottom, left, right" in run("--help").stdout
