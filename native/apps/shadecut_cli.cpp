@@ -174,11 +174,16 @@ std::string ratio_text(double inverted, double kept) {
 
 // How the light was estimated, " (estimated by zheng_chellappa)", or "" when given; with several
 // photographs, every light found.
-// "0,0.7071,0.7071": each component to four decimals, so that a light from the side named "top" does not
-// read 4.32978e-17 across and a component that rounds to zero has no sign.
+// `value` to `decimals` places, a value that rounds to zero without a sign: what the summary prints, so
+// that a light from the side named "top" reads 0,0.7071,0.7071, not 4.32978e-17,0.707107,0.707107.
+double rounded(double value, int decimals) {
+  const double scale = std::pow(10.0, decimals);
+  return std::round(value * scale) / scale + 0.0;
+}
+
 std::string light_text(const Eigen::Vector3d& light) {
   std::ostringstream text;
-  for (int i = 0; i < 3; ++i) text << (i > 0 ? "," : "") << std::round(light[i] * 1e4) / 1e4 + 0.0;
+  for (int i = 0; i < 3; ++i) text << (i > 0 ? "," : "") << rounded(light[i], 4);
   return text.str();
 }
 
@@ -188,7 +193,7 @@ std::string estimated_text(const shadecut::cli::Arguments& arguments, const shad
     return " (estimated by " + shadecut::to_string(shadecut::light_method_used(arguments.options)) + ")";
   std::ostringstream text;
   text << " (estimated from the photographs at " << arguments.options.light_slant << " degrees from the viewer, their turn "
-       << "about it within " << result.stats.light_uncertainty << " degrees; the others ";
+       << "about it within " << rounded(result.stats.light_uncertainty, 1) << " degrees; the others ";
   for (std::size_t k = 1; k < result.lights.size(); ++k)
     text << (k > 1 ? "; " : "") << light_text(result.lights[k]);
   if (result.stats.lights_turned_by_outline)
@@ -217,16 +222,17 @@ std::string work_text(const shadecut::cli::Arguments& arguments, const shadecut:
   const shadecut::ReconstructStats& stats = result.stats;
   std::ostringstream text;
   if (stats.photographs == 1) {
-    text << "method " << shadecut::to_string(arguments.options.method) << ", albedo " << result.albedo << ", "
+    text << "method " << shadecut::to_string(arguments.options.method) << ", albedo " << rounded(result.albedo, 3) << ", "
          << stats.cycles << " cycles, " << stats.moves << " moves";
   } else {
     const std::int64_t fewer = stats.single_pixels + stats.dark_pixels;
     text << "photometric stereo of " << stats.photographs << " photographs, " << (arguments.albedo ? "albedo " : "median albedo ")
-         << result.albedo << ": " << result.mask.count() - stats.pair_pixels - fewer << " pixels fitted from three or more"
+         << rounded(result.albedo, 3) << ": " << result.mask.count() - stats.pair_pixels - fewer << " pixels fitted from three or more"
          << four_fits_text(stats) << ", " << stats.pair_pixels << pair_text(stats) << ", " << fewer
          << " lit in fewer filled from their neighbours";
   }
-  text << ", " << stats.seconds.at("total") << " s";
+  const double seconds = stats.seconds.at("total");
+  text << ", " << rounded(seconds, seconds < 1.0 ? 3 : 2) << " s";
   return text.str();
 }
 
