@@ -35,12 +35,14 @@ const PixelFitter::SetInverse& PixelFitter::set_inverse(const std::vector<int>& 
   }
   Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
   for (const int k : set) normal_matrix.noalias() += light(k) * light(k).transpose();
-  SetInverse inverse;
+  // Built in uncached_, whose buffers then serve every pixel where the lights change across the frame;
+  // a set met for the first time is copied from it into the cache. spread and free hold only the set's.
+  SetInverse& inverse = uncached_;
   // det(L^T L) is the sum of the squared triple products of the set's lights (Cauchy-Binet).
   inverse.determinant = normal_matrix.determinant();
   inverse.solvable = inverse.determinant > kMinTripleProduct * kMinTripleProduct;
+  inverse.inverse = inverse.solvable ? Eigen::Matrix3d(normal_matrix.inverse()) : Eigen::Matrix3d::Zero();
   if (inverse.solvable) {
-    inverse.inverse = normal_matrix.inverse();
     inverse.spread.resize(lights_.directions().size(), Eigen::Vector3d::Zero());
     inverse.free.resize(lights_.directions().size(), 0.0);
     for (const int k : set) {
@@ -48,7 +50,7 @@ const PixelFitter::SetInverse& PixelFitter::set_inverse(const std::vector<int>& 
       inverse.free[std::size_t(k)] = 1.0 - light(k).dot(inverse.spread[std::size_t(k)]);
     }
   }
-  if (!cached) return uncached_ = inverse;
+  if (!cached) return inverse;
   return *(last_ = &inverses_.emplace(bits, inverse).first->second);
 }
 
