@@ -172,8 +172,6 @@ std::string ratio_text(double inverted, double kept) {
   return text.str();
 }
 
-// How the light was estimated, " (estimated by zheng_chellappa)", or "" when given; with several
-// photographs, every light found.
 // `value` to `decimals` places, a value that rounds to zero without a sign: what the summary prints, so
 // that a light from the side named "top" reads 0,0.7071,0.7071, not 4.32978e-17,0.707107,0.707107.
 double rounded(double value, int decimals) {
@@ -181,12 +179,15 @@ double rounded(double value, int decimals) {
   return std::round(value * scale) / scale + 0.0;
 }
 
+// A light's direction as the summary prints it, "0,0.7071,0.7071".
 std::string light_text(const Eigen::Vector3d& light) {
   std::ostringstream text;
   for (int i = 0; i < 3; ++i) text << (i > 0 ? "," : "") << rounded(light[i], 4);
   return text.str();
 }
 
+// How the light was estimated, " (estimated by zheng_chellappa)", or "" when given; with several
+// photographs, every light found.
 std::string estimated_text(const shadecut::cli::Arguments& arguments, const shadecut::Reconstruction& result) {
   if (!result.stats.light_estimated) return "";
   if (result.stats.photographs == 1)

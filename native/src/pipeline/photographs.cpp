@@ -88,11 +88,11 @@ void fit_albedo_and_residual(const std::vector<Observation>& photographs, const 
         lights_here.at(r, c);
         const Eigen::Vector3d n = result.normals.xyz.row(i).transpose().cast<double>();
         double misfit = 0.0;
-        for (std::size_t k = 0; k < photographs.size(); ++k) {
+        for (std::size_t k = 0; k < images.size(); ++k) {
           const double shading = std::max(0.0, n.dot(lights_here.directions()[k])) * lights_here.strength(k);
-          misfit += std::pow(photographs[k].image.data()[i] - result.albedo_map.data()[i] * shading, 2);
+          misfit += std::pow(images[k].data()[i] - result.albedo_map.data()[i] * shading, 2);
         }
-        result.residual.data()[i] = float(std::sqrt(misfit / double(photographs.size())));
+        result.residual.data()[i] = float(std::sqrt(misfit / double(images.size())));
       }
   });
 }
