@@ -43,7 +43,8 @@ the same procedure; --albedo tunes only the albedo estimate; --band-radius only 
 coarse_to_fine_radius, at 256 and 512 pixels unless --sizes says otherwise; --retinex only the
 paint separation, at 128 pixels unless --sizes says otherwise; --viscosity-weight only
 graphcut's viscosity_weight, every other option at its default, by the same score; --fit-smoothness
-only graphcut's fit_smoothness, with fit_shading on, by the same score; --light-method only the light
+only graphcut's fit_smoothness, with fit_shading on, by the same score; --fit-max-slant only graphcut's
+fit_max_slant, with fit_shading on, by the same score; --light-method only the light
 estimator used for objects without a light, and the contour estimator's ring, by graphcut's score with
 the light estimated, the training surfaces rendered under their own light and one of slant 5 degrees;
 --detail-size only the reliefs' detail_scale_factor, on training reliefs: see scripts/tune_reliefs.py).
@@ -117,6 +118,7 @@ TRAINING_HIGHLIGHTS = ((0.0, 1.0), (0.3, 20.0), (0.5, 100.0), (1.0, 50.0), (2.0,
 
 
 FIT_SMOOTHNESSES = (0.03, 0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0)
+FIT_MAX_SLANTS = (45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0, 90.0)
 VISCOSITY_WEIGHTS = (0.0, 0.1, 0.3, 1.0, 3.0)
 
 
@@ -374,6 +376,7 @@ def main() -> int:
     parser.add_argument("--albedo", action="store_true", help="tune only the albedo estimate (top_fit's window)")
     parser.add_argument("--band-radius", action="store_true", help="choose only graphcut's coarse_to_fine_radius")
     parser.add_argument("--fit-smoothness", action="store_true", help="tune only graphcut's fit_smoothness (fit_shading)")
+    parser.add_argument("--fit-max-slant", action="store_true", help="tune only graphcut's fit_max_slant (fit_shading)")
     parser.add_argument("--viscosity-weight", action="store_true", help="tune only graphcut's viscosity_weight")
     parser.add_argument("--light-method", action="store_true",
                         help="choose only the object light estimator (and the contour estimator's ring)")
@@ -395,6 +398,10 @@ def main() -> int:
     if args.fit_smoothness:
         tune_graphcut_option({size: training_surfaces(size) for size in args.sizes}, "fit_smoothness",
                              FIT_SMOOTHNESSES, reference={"fit_shading": False}, fit_shading=True)
+        return 0
+    if args.fit_max_slant:
+        tune_graphcut_option({size: training_surfaces(size) for size in args.sizes}, "fit_max_slant",
+                             FIT_MAX_SLANTS, reference={"fit_shading": False}, fit_shading=True)
         return 0
     if args.viscosity_weight:
         tune_graphcut_option({size: training_surfaces(size) for size in args.sizes}, "viscosity_weight",

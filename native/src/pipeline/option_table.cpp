@@ -23,6 +23,7 @@ OptionRange at_least(double low) { return {low, kUnbounded, false, false}; }
 OptionRange above(double low) { return {low, kUnbounded, true, false}; }
 OptionRange between(double low, double high) { return {low, high, false, false}; }
 OptionRange from_to_below(double low, double high) { return {low, high, false, true}; }
+OptionRange above_up_to(double low, double high) { return {low, high, true, false}; }
 OptionRange any_finite() { return {}; }
 
 // The table, by stage, in the order of OptionGroup: the docs' and --help's order.
@@ -105,6 +106,8 @@ std::vector<OptionField> surface_fields() {
       {"fit_shading", G::Refinement, &O::fit_shading, {},
        "graphcut: after integration, fit the depth to the image (integrable normals that render closer to it); not with seamless", {}},
       {"fit_smoothness", G::Refinement, &O::fit_smoothness, at_least(0.0), "fit_shading: how smooth its correction is", {}},
+      {"fit_max_slant", G::Refinement, &O::fit_max_slant, above_up_to(0.0, 90.0),
+       "fit_shading: pixels steeper than this many degrees are not fitted (their neighbours carry them); 90 = every pixel", {}},
       {"detail_size", G::Relief, &O::detail_size, any_finite(),
        "reliefs: forms larger than this many pixels are carrier and damped out; 0 = read from the image; < 0 = keep "
        "every form", {}},

@@ -32,6 +32,7 @@ GlobalStepParams global_step_params(const ReconstructOptions& options) {
 FitShadingParams fit_shading_params(const ReconstructOptions& options) {
   FitShadingParams params;
   params.smoothness = options.fit_smoothness;
+  params.max_slant = options.fit_max_slant;
   return params;
 }
 

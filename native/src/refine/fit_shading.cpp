@@ -4,6 +4,7 @@
 #include <shadecut/support/downsample.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/mask_components.hpp>
+#include <shadecut/support/render.hpp>
 
 #include "integrate/grid_poisson.hpp"
 #include "support/masked_gradient.hpp"
@@ -371,6 +372,16 @@ LevelFit fit_level(const ImageF& depth, const ImageF& image, const Mask& mask, c
   return fit;
 }
 
+// The pixels of `fitted` whose start normal (`depth`'s) is at most `max_slant` degrees from the viewer.
+Mask gentle_pixels(const ImageF& depth, const Mask& mask, const Mask& fitted, double max_slant) {
+  if (max_slant >= 90.0) return fitted;
+  const NormalMap start = normals_from_depth(depth, mask);
+  const float least_z = float(std::cos(max_slant * M_PI / 180.0));
+  Mask gentle = fitted;
+  for (Eigen::Index i = 0; i < gentle.size(); ++i) gentle.data()[i] = gentle.data()[i] && start.xyz(i, 2) >= least_z;
+  return gentle;
+}
+
 }  // namespace
 
 FitShadingStats fit_shading(ImageF& depth, const ImageF& image, const Mask& mask, const Mask& fitted,
@@ -379,19 +390,22 @@ FitShadingStats fit_shading(ImageF& depth, const ImageF& image, const Mask& mask
   if (depth.rows() != mask.rows() || depth.cols() != mask.cols() || image.rows() != mask.rows() ||
       image.cols() != mask.cols() || fitted.rows() != mask.rows() || fitted.cols() != mask.cols())
     throw InvalidArgument("shadecut: fit_shading needs depth, image, mask and fitted pixels of one size");
-  if (!(albedo > 0.0) || !(light.z() > 0.0) || !(params.smoothness >= 0.0) || params.max_steps < 0)
-    throw InvalidArgument("shadecut: fit_shading needs albedo > 0, S_z > 0, smoothness >= 0 and max_steps >= 0");
+  if (!(albedo > 0.0) || !(light.z() > 0.0) || !(params.smoothness >= 0.0) || params.max_steps < 0 ||
+      !(params.max_slant > 0.0 && params.max_slant <= 90.0))
+    throw InvalidArgument("shadecut: fit_shading needs albedo > 0, S_z > 0, smoothness >= 0, max_steps >= 0 and a "
+                          "max_slant in (0, 90] degrees");
+  const Mask fitted_here = gentle_pixels(depth, mask, fitted, params.max_slant);
   // The residual of a float depth as brightness_residual takes it (normals_from_depth's differences),
   // in parallel and without normal maps (which cost as much as the step itself at a megapixel).
   const Eigen::Vector3d direction = light.normalized();
   const auto residual_of = [&](const ImageF& candidate) {
-    const Problem whole{image, mask, fitted, direction, albedo, 0.0, candidate.cast<double>(), MaskComponents{}};
+    const Problem whole{image, mask, fitted_here, direction, albedo, 0.0, candidate.cast<double>(), MaskComponents{}};
     return cost_of(whole, whole.start).residual;
   };
   FitShadingStats stats;
   stats.residual_before = stats.residual_after = residual_of(depth);
   if (params.max_steps > 0 && mask.any()) {
-    const LevelFit fit = fit_level(depth, image, mask, fitted, direction, albedo, params, false, progress);
+    const LevelFit fit = fit_level(depth, image, mask, fitted_here, direction, albedo, params, false, progress);
     // The guarantee, on the float depth returned.
     const ImageF fitted_depth = mask.select(fit.depth.cast<float>(), depth);
     const double residual = residual_of(fitted_depth);

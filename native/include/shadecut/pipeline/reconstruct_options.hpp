@@ -72,6 +72,7 @@ struct ReconstructOptions {
   // Refinement
   bool fit_shading = false;
   double fit_smoothness = 0.05;
+  double fit_max_slant = 65.0;
   // Reliefs
   double detail_size = 0.0;
   double detail_scale_factor = 1.5;

@@ -17,6 +17,10 @@ struct FitShadingParams {
   double smoothness{};
   /// ADMM steps (each about one Poisson solve) at most at any one level of coarse to fine; 0: no fit.
   int max_steps = 200;
+  /// Degrees, in (0, 90]: a pixel whose start normal (the start depth's) is more than this from the
+  /// viewer is not fitted; the smoothness and its neighbours carry it. 90: every pixel of `fitted`.
+  /// No default here: ReconstructOptions::fit_max_slant holds the tuned one.
+  double max_slant{};
 };
 
 struct FitShadingStats {
@@ -41,13 +45,17 @@ struct FitShadingStats {
 /// (-p, -q, 1) / |.| with p, q the masked central differences of the depth (one-sided at the mask's
 /// edge), exactly as normals_from_depth takes them, so the normals of the result render as fitted.
 /// The result is returned only if its brightness residual is at or below the start's: it never
-/// explains the image worse than `depth`.
+/// explains the image worse than `depth`. Steep pixels (params.max_slant) are left out of the fit:
+/// there a pixel's central differences depart most from the surface's normal and the integrated
+/// start is least sure; fitted, their errors ran inward along the image's characteristic curves
+/// (docs/method.md, section 8).
 ///
 /// @param[in,out] depth  H x W, pixel units (larger = closer); values outside the mask are kept.
 /// @param[in] image      H x W linear intensity.
 /// @param[in] mask       H x W pixels of the surface.
 /// @param[in] fitted     H x W pixels whose intensity is Lambertian (inside the mask; e.g. the mask
-///                       without unreliable_pixels: shadows and highlights do not follow the model).
+///                       without unreliable_pixels: shadows and highlights do not follow the model);
+///                       of them, those at most params.max_slant steep are fitted.
 /// @param[in] light      unit direction toward the light, S_z > 0.
 /// @param[in] albedo     rho > 0.
 /// @param[in] progress   told the fraction of the work done, stage "fit_shading"; false cancels.
