@@ -41,7 +41,8 @@ NormalMap block_mean_normals(const NormalMap& normals, const Mask& mask, int fac
 }  // namespace
 
 void judge_orientation(const ImageF& full_image, const Mask& full_unreliable, const LightFrame& frame,
-                       const ReconstructOptions& options, Reconstruction& result) {
+                       const ReconstructOptions& options, const ImageF& full_depth, const NormalMap& full_normals,
+                       Reconstruction& result) {
   const int factor = std::max(1, int(object_size(result.mask) / kOrientationObjectSize));
   // The block means, when there are blocks; the call's own images are only read.
   Downsampled small;
@@ -51,13 +52,13 @@ void judge_orientation(const ImageF& full_image, const Mask& full_unreliable, co
   if (factor > 1) {
     // A block is unreliable when any of its pixels is; depth in pixel units shrinks with the pixels.
     small = downsample(full_image, result.mask, factor, 1.0);
-    small_depth = downsample(result.depth, result.mask, factor, 1.0).image / float(factor);
+    small_depth = downsample(full_depth, result.mask, factor, 1.0).image / float(factor);
     small_unreliable = downsample(full_unreliable.cast<float>(), result.mask, factor, 1.0).image > 0.0f && small.mask;
     detail_size /= factor;
   }
-  NormalMap turned = factor > 1 ? block_mean_normals(result.normals, result.mask, factor) : result.normals;
+  NormalMap turned = factor > 1 ? block_mean_normals(full_normals, result.mask, factor) : full_normals;
   const ImageF& image = factor > 1 ? small.image : full_image;
-  const ImageF& depth = factor > 1 ? small_depth : result.depth;
+  const ImageF& depth = factor > 1 ? small_depth : full_depth;
   const Mask& mask = factor > 1 ? small.mask : result.mask;
   const Mask& unreliable = factor > 1 ? small_unreliable : full_unreliable;
   const Eigen::Vector3f light = frame.direction.cast<float>();

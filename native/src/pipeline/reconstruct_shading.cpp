@@ -18,6 +18,7 @@
 #include "support/stopwatch.hpp"
 
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 namespace shadecut::detail {
@@ -59,10 +60,21 @@ ImageF stage_image(const ImageF& input, const Mask& mask, const ReconstructOptio
       .select(ImageF::Zero(input.rows(), input.cols()), input);
 }
 
+// A relief's depth finished (finish_relief) and its normals made its finished depth's: what the mesh
+// shows. The labelling's own normals carry the convex/concave creases it puts on flat ground, on the
+// coarse levels' grid, which the integration smooths away (docs/method.md, Reliefs). A seamless
+// relief's already are its depth's.
+void finish_surface(ImageF& depth, NormalMap& normals, const Mask& mask, const ReconstructOptions& options,
+                    double detail_size) {
+  finish_relief(depth, mask, options, detail_size);
+  if (options.scene == SceneKind::Relief && !options.seamless) normals = normals_from_depth(depth, mask);
+}
+
 // The chosen method's normals made a surface (filled, integrated, fitted when asked, finished as a
-// relief) in `result`.
-void make_surface(const ImageF& image, const Mask& unreliable, const LightFrame& frame, const ReconstructOptions& options,
-                  const Progress& progress, Reconstruction& result) {
+// relief) in `result`. With the fit, returns the surface before it, finished alike: what the
+// orientation is judged on (judge_orientation).
+std::optional<Surface> make_surface(const ImageF& image, const Mask& unreliable, const LightFrame& frame,
+                                    const ReconstructOptions& options, const Progress& progress, Reconstruction& result) {
   const Mask& mask = result.mask;
   NormalMap normals = method_entry(options.method)
                           .solve({image, mask, frame, result.albedo, options, progress.range(0.0, kNormalsShare)}, result.stats);
@@ -71,21 +83,21 @@ void make_surface(const ImageF& image, const Mask& unreliable, const LightFrame&
   Surface surface = surface_from_normals(std::move(normals), mask, unreliable, edge_is_outline(options), options.integrator,
                                          options.seamless, options.max_slope, progress.range(kNormalsShare, kIntegratedShare));
   result.stats.seconds["integration"] = integration.seconds();
-  result.normals = std::move(surface.normals);
-  result.depth = std::move(surface.depth);
   result.stats.shadow_pixels = surface.filled_pixels;
-  if (fits_shading(options)) {
-    fit_depth_to_image(image, mask && !unreliable, frame, options, progress.range(kIntegratedShare, 1.0), result);
-  } else {
-    progress.report(1.0, "integration");
-  }
   result.stats.detail_size = detail_size_used(image, mask, options);
-  finish_relief(result.depth, mask, options, result.stats.detail_size);
-  // A relief is a height field, and its normal map is its finished depth's: what the mesh shows. The
-  // labelling's own normals carry the convex/concave creases it puts on flat ground, on the coarse
-  // levels' grid, which the integration smooths away (docs/method.md, Reliefs). A seamless relief's
-  // already are its depth's.
-  if (options.scene == SceneKind::Relief && !options.seamless) result.normals = normals_from_depth(result.depth, mask);
+  if (!fits_shading(options)) {
+    progress.report(1.0, "integration");
+    finish_surface(surface.depth, surface.normals, mask, options, result.stats.detail_size);
+    result.normals = std::move(surface.normals);
+    result.depth = std::move(surface.depth);
+    return std::nullopt;
+  }
+  result.normals = surface.normals;
+  result.depth = surface.depth;
+  fit_depth_to_image(image, mask && !unreliable, frame, options, progress.range(kIntegratedShare, 1.0), result);
+  finish_surface(result.depth, result.normals, mask, options, result.stats.detail_size);
+  finish_surface(surface.depth, surface.normals, mask, options, result.stats.detail_size);
+  return surface;
 }
 
 // ReconstructStats::brighter_than_albedo and albedo_message.
@@ -124,9 +136,10 @@ Reconstruction reconstruct_shading(const ImageF& input, const std::optional<Eige
   const ThreadCountScope threads(options.threads);
   const Mask unreliable =
       unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), highlight_threshold_used(options));
-  make_surface(image, unreliable, frame, options, progress, result);
+  const std::optional<Surface> before_fit = make_surface(image, unreliable, frame, options, progress, result);
   const Stopwatch orientation;
-  judge_orientation(image, unreliable, frame, options, result);
+  judge_orientation(image, unreliable, frame, options, before_fit ? before_fit->depth : result.depth,
+                    before_fit ? before_fit->normals : result.normals, result);
   result.stats.seconds["orientation"] = orientation.seconds();
   result.stats.seconds["total"] = total.seconds();
   return result;
