@@ -257,7 +257,8 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
     fit_shading: bpy.props.BoolProperty(
         name="Fit to image", default=DEFAULTS.fit_shading,
         description="After the graph cut, refine the heights until the surface's shading matches the image: "
-                    "more accurate on most surfaces, and many times slower",
+                    "more detail and no blocks on objects of one colour, in about the time again; painted "
+                    "objects and materials can come out worse",
     )
     auto_albedo: bpy.props.BoolProperty(
         name="Auto albedo", default=True,
