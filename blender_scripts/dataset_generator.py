@@ -180,6 +180,17 @@ def check_output(folder: Path) -> None:
         raise UsageError(f"cannot write to the output folder {folder}: {error.strerror or error}") from None
 
 
+def same_setting(made, planned) -> bool:
+    """Whether a sample was made with the planned value: equal, numbers within 1e-9 of each other
+    (relative). A drawn light can differ in its last bit between two plans of one Blender process:
+    seen after renders had run in it, one bit apart in a component, which is no other setting."""
+    if isinstance(planned, list):
+        return isinstance(made, list) and len(made) == len(planned) and all(map(same_setting, made, planned))
+    if isinstance(planned, float) and isinstance(made, (int, float)) and not isinstance(made, bool):
+        return math.isclose(made, planned, rel_tol=1e-9, abs_tol=1e-12)
+    return made == planned
+
+
 def finished(folder: Path, entry: dict) -> bool:
     """True when the sample exists, complete and readable (dataset.check_sample); UsageError when it
     exists with other parameters than planned. A damaged sample is reported and is not finished."""
@@ -193,7 +204,7 @@ def finished(folder: Path, entry: dict) -> bool:
     if isinstance(meta, dict):
         made = meta.get("dataset_entry")
         made = made if isinstance(made, dict) else {}
-        different = [key for key in PLAN_KEYS if made.get(key) != entry[key]]
+        different = [key for key in PLAN_KEYS if not same_setting(made.get(key), entry[key])]
         if different:
             raise UsageError(f"{sample} was made with other settings ({', '.join(different)}); "
                              "use another --out folder, or delete it")

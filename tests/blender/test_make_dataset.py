@@ -2,6 +2,7 @@
 seeds, re-runs, shards, bad input."""
 
 import importlib.util
+import json
 import math
 import os
 import signal
@@ -80,6 +81,22 @@ def test_two_shapes_two_lights(generator, tmp_path, capsys):
     # Other settings into the same folder are refused rather than mixed in.
     assert run(generator, tmp_path / "a", "--albedo", "0.5") == 2
     assert "other settings" in capsys.readouterr().err
+
+
+def test_a_light_one_bit_apart_is_the_same_setting_and_a_light_moved_is_not(generator, tmp_path, capsys):
+    assert run(generator, tmp_path) == 0
+    meta_path = tmp_path / "suzanne_001" / "meta.json"
+    meta = json.loads(meta_path.read_text())
+    planned = meta["dataset_entry"]["light"]
+    meta["dataset_entry"]["light"] = [float(np.nextafter(planned[0], 1.0)), *planned[1:]]
+    meta_path.write_text(json.dumps(meta))
+    capsys.readouterr()
+    assert run(generator, tmp_path) == 0
+    assert "4 already done, 0 to render" in capsys.readouterr().out
+    meta["dataset_entry"]["light"] = [planned[0] + 1e-3, *planned[1:]]
+    meta_path.write_text(json.dumps(meta))
+    assert run(generator, tmp_path) == 2
+    assert "suzanne_001 was made with other settings (light)" in capsys.readouterr().err
 
 
 def test_shards_split_the_samples_and_a_missing_sample_is_redone(generator, tmp_path, capsys):
