@@ -92,8 +92,7 @@ std::optional<Surface> make_surface(const ImageF& image, const Mask& unreliable,
     result.depth = std::move(surface.depth);
     return std::nullopt;
   }
-  result.normals = surface.normals;
-  result.depth = surface.depth;
+  result.depth = surface.depth;  // fit_depth_to_image makes the normals the fitted depth's
   fit_depth_to_image(image, mask && !unreliable, frame, options, progress.range(kIntegratedShare, 1.0), result);
   finish_surface(result.depth, result.normals, mask, options, result.stats.detail_size);
   finish_surface(surface.depth, surface.normals, mask, options, result.stats.detail_size);

@@ -4,7 +4,6 @@
 #include <shadecut/support/downsample.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/mask_components.hpp>
-#include <shadecut/support/render.hpp>
 
 #include "integrate/grid_poisson.hpp"
 #include "support/masked_gradient.hpp"
@@ -372,13 +371,19 @@ LevelFit fit_level(const ImageF& depth, const ImageF& image, const Mask& mask, c
   return fit;
 }
 
-// The pixels of `fitted` whose start normal (`depth`'s) is at most `max_slant` degrees from the viewer.
+// The pixels of `fitted` whose start normal (`depth`'s) is at most `max_slant` degrees from the viewer:
+// whose gradient, the differences n(z) reads, is at most tan(max_slant) long.
 Mask gentle_pixels(const ImageF& depth, const Mask& mask, const Mask& fitted, double max_slant) {
   if (max_slant >= 90.0) return fitted;
-  const NormalMap start = normals_from_depth(depth, mask);
-  const float least_z = float(std::cos(max_slant * M_PI / 180.0));
+  const double steepest = std::pow(std::tan(max_slant * M_PI / 180.0), 2);
   Mask gentle = fitted;
-  for (Eigen::Index i = 0; i < gentle.size(); ++i) gentle.data()[i] = gentle.data()[i] && start.xyz(i, 2) >= least_z;
+  for_each_row(int(mask.rows()), [&](int r) {
+    for (int c = 0; c < int(mask.cols()); ++c) {
+      if (!gentle(r, c)) continue;
+      const detail::MaskedGradient g = detail::masked_gradient(depth, mask, r, c);
+      gentle(r, c) = mask(r, c) && g.dx * g.dx + g.dy * g.dy <= steepest;
+    }
+  });
   return gentle;
 }
 
