@@ -1,5 +1,6 @@
-"""Renders Mozart under light (1, 0, 1), reconstructs it with graphcut and lee_rosenfeld, prints the
-mean angular errors and writes the outputs (images, depth, normals, meshes, a comparison figure).
+"""Renders Mozart under light (1, 0, 1), reconstructs it with graphcut (the defaults, then with the
+depth fitted to the image: fit_shading) and lee_rosenfeld, prints the mean angular errors and writes the
+outputs (images, depth, normals, meshes, a comparison figure).
 
 Run: bash scripts/demo.sh [--out DIR]   (or PYTHONPATH=addon /usr/bin/python3 scripts/demo.py)
 """
@@ -17,7 +18,12 @@ from shadecut import synthetic
 
 REPO = Path(__file__).resolve().parents[1]
 LIGHT = (1.0, 0.0, 1.0)
-METHODS = ("graphcut", "lee_rosenfeld")
+# name (the output files' prefix) -> the figure's title and reconstruct()'s options
+RUNS = {
+    "graphcut": ("graphcut", dict(method="graphcut")),
+    "graphcut_fit": ("graphcut, fit to image", dict(method="graphcut", fit_shading=True)),
+    "lee_rosenfeld": ("lee_rosenfeld", dict(method="lee_rosenfeld")),
+}
 
 
 def save_figure(path: Path, scene: synthetic.Scene, results: dict, errors: dict) -> None:
@@ -31,15 +37,15 @@ def save_figure(path: Path, scene: synthetic.Scene, results: dict, errors: dict)
     figure, axes = plt.subplots(1, columns, figsize=(2.6 * columns, 3.0))
     colour = lambda n: np.where(scene.mask[..., None], (n + 1) / 2, 1.0)  # noqa: E731
     axes[0].imshow(scene.image, cmap="gray", vmin=0, vmax=1)
-    axes[0].set_title("input, light (1,0,1)")
+    axes[0].set_title("input, light (1,0,1)", fontsize=9)
     axes[1].imshow(colour(scene.normals))
-    axes[1].set_title("true normals")
-    for i, (method, result) in enumerate(results.items()):
+    axes[1].set_title("true normals", fontsize=9)
+    for i, (name, result) in enumerate(results.items()):
         axes[2 + 2 * i].imshow(colour(result.normals))
-        axes[2 + 2 * i].set_title(f"{method} normals")
+        axes[2 + 2 * i].set_title(f"{RUNS[name][0]} normals", fontsize=9)
         error_map = shadecut.angular_error_map(result.normals, scene.normals, eroded)
         shown = axes[3 + 2 * i].imshow(error_map, cmap="magma", vmin=0, vmax=90)
-        axes[3 + 2 * i].set_title(f"error, mean {errors[method]:.1f}°")
+        axes[3 + 2 * i].set_title(f"error, mean {errors[name]:.1f}°", fontsize=9)
     for axis in axes:
         axis.set_axis_off()
     figure.colorbar(shown, ax=axes[-1], fraction=0.046, label="degrees")
@@ -58,14 +64,14 @@ def main() -> int:
     shadecut.save_image(args.out / "mozart_input.png", scene.image, scene.mask)
     print(f"Mozart 256 x 256 rendered under light {LIGHT}; mean angular error on the mask eroded by 2 px:")
     results, errors = {}, {}
-    for method in METHODS:
-        result = shadecut.reconstruct(scene.image, LIGHT, scene.mask, method=method)
-        results[method], errors[method] = result, scene.mean_error(result.normals)
-        print(f"  {method:14s} {errors[method]:6.2f} deg   ({result.stats.seconds['total']:.2f} s)")
-        shadecut.save_depth(args.out / f"{method}_depth.exr", result.depth, result.mask)
-        shadecut.save_depth(args.out / f"{method}_depth.png", result.depth, result.mask)
-        shadecut.save_normals(args.out / f"{method}_normals.png", result.normals, result.mask)
-        shadecut.save_mesh(args.out / f"{method}_mesh.ply", result.depth, result.mask)
+    for name, (title, options) in RUNS.items():
+        result = shadecut.reconstruct(scene.image, LIGHT, scene.mask, **options)
+        results[name], errors[name] = result, scene.mean_error(result.normals)
+        print(f"  {title:24s} {errors[name]:6.2f} deg   ({result.stats.seconds['total']:.2f} s)")
+        shadecut.save_depth(args.out / f"{name}_depth.exr", result.depth, result.mask)
+        shadecut.save_depth(args.out / f"{name}_depth.png", result.depth, result.mask)
+        shadecut.save_normals(args.out / f"{name}_normals.png", result.normals, result.mask)
+        shadecut.save_mesh(args.out / f"{name}_mesh.ply", result.depth, result.mask)
     save_figure(args.out / "mozart_comparison.png", scene, results, errors)
     print(f"wrote input, depth (.exr, .png), normals (.png), meshes (.ply) and mozart_comparison.png to {args.out}")
     return 0
