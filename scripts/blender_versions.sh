@@ -56,10 +56,23 @@ install_packages() {
     nice apt-get install -y -qq --no-install-recommends ${missing[*]} >/dev/null"
 }
 
+# Mounts a run killed outright left in the chroot (SIGKILL skips with_mounts' trap), released: mounting
+# /sys over them fails, and /proc and /dev would stack. Bounded, in case one is busy.
+release_mounts() {
+  local root=$1 path tries
+  for path in dev sys proc; do
+    for ((tries = 0; tries < 20; tries++)); do
+      mountpoint -q "$root/$path" || break
+      umount -R "$root/$path"
+    done
+  done
+}
+
 # Runs a command in the chroot with /proc, /dev and /sys mounted, unmounting them whatever happens.
 with_mounts() {
   local root=$1 status=0
   shift
+  release_mounts "$root"
   mount -t proc proc "$root/proc"
   mount --rbind /dev "$root/dev" && mount --make-rslave "$root/dev"
   mount -t sysfs sysfs "$root/sys"
