@@ -53,6 +53,28 @@ def reconstruct_until(finished, failure: str):
     600: 60 s at the scripts' 0.1 s); returns how many ticks that took."""
     with bpy.context.temp_override(**view3d_override()):
         assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+    return (yield from wait_until(finished, failure))
+
+
+def reconstruct_held_until(state: dict, finished, failure: str, held_ticks: int = 3):
+    """Steps: as reconstruct_until, with the job held at its first progress call for ``held_ticks``
+    timer ticks, so that the check that Blender keeps running while the worker works does not depend
+    on how fast this machine reconstructs; returns the ticks after the job was let go."""
+    state["hold"] = True
+    with bpy.context.temp_override(**view3d_override()):
+        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+    yield from wait_until(lambda: state["fractions"], "the job never reported progress")
+    for _ in range(held_ticks):
+        yield
+    assert any_running(), "the worker stopped while it was held"
+    assert not finished(), "the result came while the worker was held"
+    state["hold"] = False
+    return (yield from wait_until(finished, failure))
+
+
+def wait_until(finished, failure: str):
+    """Steps: waits timer ticks until finished() (at most 600: 60 s at the scripts' 0.1 s); returns
+    how many ticks that took."""
     ticks = 0
     while not finished():
         yield
