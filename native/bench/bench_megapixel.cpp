@@ -3,6 +3,7 @@
 // 1024 and 2048 pixels square, side by side in one run:
 //   default_call         reconstruct() with ReconstructOptions{} (graph cut, coarse to fine, default
 //                        integrator); counters: the stage milliseconds of result.stats;
+//   fit_call             the default call with fit_shading on (the depth fitted to the image);
 //   relief_call          the same as a relief (scene Relief, the light and albedo estimated), as
 //                        the add-on's Subject Relief reads a photograph of a wall;
 //   relief_light         the relief call's light estimate alone (estimate_light, LightMethod::Relief);
@@ -173,15 +174,24 @@ ReferenceStats reference_expansion(const TiltEnergy& energy, std::vector<int>& l
   return stats;
 }
 
-void BM_DefaultCall(benchmark::State& state) {
+void time_call(benchmark::State& state, const ReconstructOptions& options) {
   const BumpField& field = bump_field(int(state.range(0)));
   std::map<std::string, double> stage_seconds;
   for (auto _ : state) {
-    const Reconstruction result = reconstruct(field.image, scene_light(), &field.mask, kAlbedo, ReconstructOptions{});
+    const Reconstruction result = reconstruct(field.image, scene_light(), &field.mask, kAlbedo, options);
     bench::add_stages(result.stats, stage_seconds);
     benchmark::DoNotOptimize(result.depth.data());
   }
   bench::report_stages(state, stage_seconds);
+}
+
+void BM_DefaultCall(benchmark::State& state) { time_call(state, ReconstructOptions{}); }
+
+// The default call with the depth fitted to the image: what fit_shading on by default would cost.
+void BM_FitCall(benchmark::State& state) {
+  ReconstructOptions options;
+  options.fit_shading = true;
+  time_call(state, options);
 }
 
 // The same field as a photograph of a wall: Subject Relief, the light estimated (the add-on's relief).
@@ -256,6 +266,7 @@ void register_megapixel_benchmarks() {
     bool manual_time;
   } variants[] = {
       {"default_call", BM_DefaultCall, false},
+      {"fit_call", BM_FitCall, false},
       {"relief_call", BM_ReliefCall, false},
       {"relief_light", BM_ReliefLight, false},
       {"graph_cut", BM_GraphCut, true},
