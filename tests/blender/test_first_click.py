@@ -18,7 +18,7 @@ from shadecut.blender.properties import ShadeCutReconstructSettings
 from test_addon import add_sun, scene_state
 
 LIGHT = (1.0, 0.0, 1.0)
-RESEARCH_SETTINGS = {"method", "labels", "data_weight", "integrator", "fit_shading"}
+RESEARCH_SETTINGS = {"method", "labels", "data_weight", "integrator"}
 # Longer names are cut off ("Data wei...") in the sidebar's default width.
 MAX_NAME_LENGTH = 14
 

@@ -79,6 +79,9 @@ def draw_reconstruct_settings(layout, settings) -> None:
     if settings.scene == "object":
         column.prop(settings, "mask_image")
     column.prop(settings, "max_resolution")
+    # The library fits one image's depth, not several photographs' nor a seamless relief's.
+    if not settings.photographs and not (settings.scene == "relief" and settings.seamless):
+        column.prop(settings, "fit_shading")
 
     column = layout.column(heading="Light")
     column.prop(settings, "light_source")
@@ -135,7 +138,6 @@ def draw_advanced_settings(layout, settings) -> None:
     column.prop(settings, "labels")
     column.prop(settings, "data_weight")
     column.prop(settings, "integrator")
-    column.prop(settings, "fit_shading")
     column.prop(settings, "albedo_method")
     row = column.row(heading="Albedo")
     row.active = settings.light_source != "ESTIMATE"  # Estimate finds the albedo with the light
