@@ -6,8 +6,10 @@ figure of shadecut.evaluation.relief_metrics. Photographs: python3-skimage's CC0
 and coins, sRGB decoded to linear, light estimated, every default.
 
 Run: PYTHONPATH=addon /usr/bin/python3 scripts/measure_reliefs.py [--gallery docs/relief_gallery.png]
-[--every-form-kept]; the latter measures the reliefs as they were before the damping and the paint lines
-(detail_size=-1, paint_line_width=0): the drift of the slopes then shows beside the true large forms.
+[--every-form-kept] [--true-paint]. --every-form-kept measures the reliefs as they were before the
+damping and the paint lines (detail_size=-1, paint_line_width=0): the drift of the slopes then shows
+beside the true large forms. --true-paint divides each test relief's image by its true paint (albedo)
+first: what is left of the error is the shading's.
 """
 
 from __future__ import annotations
@@ -34,9 +36,14 @@ def photo(name: str) -> np.ndarray:
     return srgb_to_linear(getattr(skimage.data, name)() / 255.0)
 
 
-def relief_test_figures(**options) -> dict:
-    """{family: [figures of each seed and light]} over the test reliefs."""
-    return {name: [relief_figures(shadecut.reconstruct(relief.image, light, scene="relief", **options).depth, relief.depth)
+def relief_test_figures(true_paint: bool = False, **options) -> dict:
+    """{family: [figures of each seed and light]} over the test reliefs; with ``true_paint`` each
+    image divided by its true albedo first."""
+    def image_of(relief):
+        return relief.image / relief.albedo_map if true_paint else relief.image
+
+    return {name: [relief_figures(shadecut.reconstruct(image_of(relief), light, scene="relief", **options).depth,
+                                  relief.depth)
                    for seed in synthetic_reliefs.TEST_SEEDS for light in TEST_LIGHTS
                    for relief in [make(light, 256, seed)]]
             for name, make in synthetic_reliefs.RELIEFS.items()}
@@ -73,11 +80,12 @@ def main() -> int:
     parser.add_argument("--gallery", help="also write the gallery figure to this PNG")
     parser.add_argument("--every-form-kept", action="store_true",
                         help="no damping and no paint lines (detail_size=-1, paint_line_width=0)")
+    parser.add_argument("--true-paint", action="store_true", help="the test reliefs' images divided by their true paint")
     args = parser.parse_args()
     options = {"detail_size": -1.0, "paint_line_width": 0} if args.every_form_kept else {}
     print("test reliefs (light given): family, correlation mean [min], range ratio median [max], "
           "large-form share mean (truth's)")
-    for name, figures in relief_test_figures(**options).items():
+    for name, figures in relief_test_figures(args.true_paint, **options).items():
         correlation = [f["correlation"] for f in figures]
         ratio = [f["range_ratio"] for f in figures]
         print(f"  {name:14s} {np.mean(correlation):.2f} [{min(correlation):.2f}]  {np.median(ratio):.2f} "

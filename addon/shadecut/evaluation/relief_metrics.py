@@ -29,6 +29,27 @@ def low_frequency_share(height: np.ndarray, large_form_fraction: float = LARGE_F
     return float(power[large].sum() / total) if total > 0 else 0.0
 
 
+EDGE_STRIP_PIXELS = 8  # the strip along each frame edge that edge_lean reads
+
+
+def edge_lean(normals: np.ndarray, form_size: float, width: int = EDGE_STRIP_PIXELS) -> list[float]:
+    """How far the strip ``width`` pixels wide along each frame edge (left, right, top, bottom) leans
+    across that edge, in standard errors: the mean of the normals' component across the edge (x for
+    the left and right, y for the top and bottom) over the strip's spread of it divided by the square
+    root of the forms along the strip (its length over ``form_size`` pixels, at least one).
+
+    A relief of many small forms faces the viewer on average, in any strip, up to chance: a value
+    beyond 3 is a band of tilted normals along the edge that nothing in the image explains.
+    ``normals``: H x W x 3 over the full frame."""
+    leans = []
+    for strip, axis in ((np.s_[:, :width], 0), (np.s_[:, -width:], 0), (np.s_[:width, :], 1), (np.s_[-width:, :], 1)):
+        across = np.asarray(normals[strip][..., axis], np.float64)
+        forms = max(max(across.shape) / form_size, 1.0)
+        error = across.std() / np.sqrt(forms)
+        leans.append(float(abs(across.mean()) / error) if error > 0 else 0.0)
+    return leans
+
+
 def depth_range_fraction(height: np.ndarray) -> float:
     """The height's range (max - min) over the image's width."""
     return float(np.ptp(height) / height.shape[1])

@@ -12,7 +12,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace shadecut {
@@ -63,42 +65,141 @@ void box_down_columns(const Field& in, Field& out, int radius) {
   });
 }
 
-// The masked Gaussian blur of `values` (standard deviation sigma pixels): three boxes each way, whose
-// variance 3 (w^2 - 1) / 12 is sigma^2, over the values and over the mask, divided. 0 off the mask.
-// `values` is taken by value and blurred in place: the callers hand over fields made for it.
-Field masked_blur(Field values, const Mask& mask, double sigma) {
+// The radius of the boxes whose three passes blur by a Gaussian of standard deviation sigma pixels
+// (their variance 3 (w^2 - 1) / 12 is sigma^2), sigma at most the frame's larger side.
+int box_radius(double sigma, const Mask& mask) {
   const double largest = double(std::max(mask.rows(), mask.cols()));
-  const int radius = int(std::lround((std::sqrt(4.0 * std::min(sigma, largest) * std::min(sigma, largest) + 1.0) - 1.0) / 2.0));
-  // One scratch field for every column pass: a fresh 8-byte-per-pixel field each pass costs more in
-  // page faults than the pass itself at 4 MP.
+  const double clamped = std::min(sigma, largest);
+  return int(std::lround((std::sqrt(4.0 * clamped * clamped + 1.0) - 1.0) / 2.0));
+}
+
+// Three boxes of `radius` each way over `field`, in place, the frame's outside taken as zero.
+// `scratch`, of the field's size, is shared by the passes: a fresh 8-byte-per-pixel field each pass
+// costs more in page faults than the pass itself at 4 MP.
+void box_blur(Field& field, int radius, Field& scratch) {
+  for (int pass = 0; pass < 3; ++pass) {
+    box_along_rows(field, radius);
+    box_down_columns(field, scratch, radius);
+    field.swap(scratch);
+  }
+}
+
+// (i - centre)^power at i = 0 .. length - 1, blurred by the three boxes of `radius`: along one axis,
+// the blurred full frame's weight (power 0) and its moments (a full frame's are products of two).
+Field blurred_line(Eigen::Index length, double centre, int power, int radius) {
+  Field line(1, length);
+  for (Eigen::Index i = 0; i < length; ++i) line(0, i) = std::pow(double(i) - centre, power);
+  for (int pass = 0; pass < 3; ++pass) box_along_rows(line, radius);
+  return line;
+}
+
+// The masked Gaussian blur of `values` (standard deviation sigma pixels): three boxes each way over
+// the values and over the mask, divided. 0 off the mask. `values` is taken by value and blurred in
+// place: the callers hand over fields made for it.
+Field masked_blur(Field values, const Mask& mask, double sigma) {
+  const int radius = box_radius(sigma, mask);
   Field scratch(values.rows(), values.cols());
-  auto blur = [radius, &scratch](Field& field) {
-    for (int pass = 0; pass < 3; ++pass) {
-      box_along_rows(field, radius);
-      box_down_columns(field, scratch, radius);
-      field.swap(scratch);
-    }
-  };
   if (mask.all()) {
-    // A full frame's blurred mask is separable, the product of two 1-D blurs of ones: only the values
-    // are blurred in 2-D.
-    auto blurred_ones = [&](Eigen::Index length) {
-      Field ones = Field::Ones(1, length);
-      for (int pass = 0; pass < 3; ++pass) box_along_rows(ones, radius);
-      return ones;
-    };
-    const Field across = blurred_ones(values.cols()), down = blurred_ones(values.rows());
-    blur(values);
+    // Only the values are blurred in 2-D.
+    const Field across = blurred_line(values.cols(), 0.0, 0, radius), down = blurred_line(values.rows(), 0.0, 0, radius);
+    box_blur(values, radius, scratch);
     detail::parallel_for(int(values.rows()), kRowsPerChunk, 0, [&](int r) { values.row(r) /= down(0, r) * across.row(0); });
     return values;
   }
   Field weights = mask.cast<double>().array();
   values *= weights;
-  blur(weights);
-  blur(values);
+  box_blur(weights, radius, scratch);
+  box_blur(values, radius, scratch);
   // Coefficient-wise, so written over `values` without a temporary.
   values = (weights > 0.0).select(values / weights.max(1e-300), 0.0) * mask.cast<double>().array();
   return values;
+}
+
+// The sums, over a pixel's blur window, of its weights w times 1, u, v, u^2, u v, v^2 (u, v the
+// offsets from the pixel, columns and rows), and of w times the values d, u d and v d.
+struct WindowMoments {
+  double w = 0.0, u = 0.0, v = 0.0, uu = 0.0, uv = 0.0, vv = 0.0;
+  double d = 0.0, ud = 0.0, vd = 0.0;
+};
+
+// The weighted least-squares plane a + b u + c v through a window's values, at the pixel: a, by
+// Cramer's rule on the normal equations [w u v; u uu uv; v uv vv] (a b c) = (d ud vd). Where the
+// window is symmetric about the pixel (u = v = uv = 0) it is the weighted mean d / w; where its
+// points lie on a line the plane is not determined and the mean is taken too.
+double plane_at_centre(const WindowMoments& m) {
+  const double spread = m.uu * m.vv - m.uv * m.uv;  // the cofactor of w
+  const double by_u = m.v * m.uv - m.u * m.vv, by_v = m.u * m.uv - m.uu * m.v;
+  const double determinant = m.w * spread + m.u * by_u + m.v * by_v;
+  // determinant / (w spread) lies in (0, 1] for a window not on a line.
+  if (!(spread > 1e-9 * m.uu * m.vv) || !(determinant > 1e-9 * m.w * spread)) return m.d / m.w;
+  return (spread * m.d + by_u * m.ud + by_v * m.vd) / determinant;
+}
+
+// The masked Gaussian-weighted least-squares plane through `values` around every pixel (standard
+// deviation sigma pixels), evaluated there: first-order normalized convolution. Inside the frame and
+// the mask it is masked_blur's mean; at their edges, where a one-sided window's mean lags a slope by
+// about sigma times it (a relief's depth rising toward the frame's edge left a band of tilted normals
+// there once its mean was taken away), the plane follows the slope. 0 off the mask.
+//
+// Moments about the pixel from moments about the frame's centre (x, y): sum w (x - x_p) d = sum w x d
+// - x_p sum w d, and alike; centred coordinates keep the sums small. A full frame's weight moments are
+// products of one-dimensional ones, so only the three value moments are blurred in 2-D.
+Field local_plane(const Field& values, const Mask& mask, double sigma) {
+  const int rows = int(values.rows()), cols = int(values.cols()), radius = box_radius(sigma, mask);
+  const double centre_x = 0.5 * (cols - 1), centre_y = 0.5 * (rows - 1);
+  Field scratch(rows, cols);
+  const auto blurred = [&](auto&& value_at) {
+    Field field(rows, cols);
+    detail::parallel_for(rows, kRowsPerChunk, 0, [&](int r) {
+      for (int c = 0; c < cols; ++c) field(r, c) = mask(r, c) ? value_at(r, c, c - centre_x, r - centre_y) : 0.0;
+    });
+    box_blur(field, radius, scratch);
+    return field;
+  };
+  const Field d = blurred([&](int r, int c, double, double) { return values(r, c); });
+  const Field xd = blurred([&](int r, int c, double x, double) { return x * values(r, c); });
+  const Field yd = blurred([&](int r, int c, double, double y) { return y * values(r, c); });
+  // The weight moments about the frame's centre: w, x w, y w, x^2 w, x y w, y^2 w at every pixel.
+  std::function<WindowMoments(int, int)> weight_moments;
+  std::vector<Field> weights;
+  if (mask.all()) {
+    for (const auto& [length, centre] : {std::pair{Eigen::Index(cols), centre_x}, std::pair{Eigen::Index(rows), centre_y}})
+      for (int power = 0; power <= 2; ++power) weights.push_back(blurred_line(length, centre, power, radius));
+    weight_moments = [&](int r, int c) {
+      const double a0 = weights[0](0, c), a1 = weights[1](0, c), a2 = weights[2](0, c);
+      const double b0 = weights[3](0, r), b1 = weights[4](0, r), b2 = weights[5](0, r);
+      return WindowMoments{a0 * b0, a1 * b0, a0 * b1, a2 * b0, a1 * b1, a0 * b2};
+    };
+  } else {
+    for (const auto& [px, py] : {std::pair{0, 0}, std::pair{1, 0}, std::pair{0, 1}, std::pair{2, 0}, std::pair{1, 1},
+                                 std::pair{0, 2}})
+      weights.push_back(blurred([&](int, int, double x, double y) { return std::pow(x, px) * std::pow(y, py); }));
+    weight_moments = [&](int r, int c) {
+      return WindowMoments{weights[0](r, c), weights[1](r, c), weights[2](r, c),
+                           weights[3](r, c), weights[4](r, c), weights[5](r, c)};
+    };
+  }
+  Field low = Field::Zero(rows, cols);
+  detail::parallel_for(rows, kRowsPerChunk, 0, [&](int r) {
+    for (int c = 0; c < cols; ++c) {
+      if (!mask(r, c)) continue;
+      const WindowMoments about_centre = weight_moments(r, c);
+      if (!(about_centre.w > 0.0)) continue;
+      const double x = c - centre_x, y = r - centre_y;
+      WindowMoments m;
+      m.w = about_centre.w;
+      m.u = about_centre.u - x * about_centre.w;
+      m.v = about_centre.v - y * about_centre.w;
+      m.uu = about_centre.uu - 2.0 * x * about_centre.u + x * x * about_centre.w;
+      m.uv = about_centre.uv - x * about_centre.v - y * about_centre.u + x * y * about_centre.w;
+      m.vv = about_centre.vv - 2.0 * y * about_centre.v + y * y * about_centre.w;
+      m.d = d(r, c);
+      m.ud = xd(r, c) - x * d(r, c);
+      m.vd = yd(r, c) - y * d(r, c);
+      low(r, c) = plane_at_centre(m);
+    }
+  });
+  return low;
 }
 
 // log(max(image, floor)) in double, rows in parallel (a serial pass is a visible share of a large relief's call).
@@ -210,7 +311,7 @@ double relief_scale(const ImageF& image, const Mask& mask) {
 
 void damp_large_forms(ImageF& depth, const Mask& mask, double detail_size) {
   if (!(detail_size > 0.0)) throw InvalidArgument("shadecut: the detail size must be > 0 pixels");
-  const Field low = masked_blur(depth.cast<double>().array(), mask, 0.187 * detail_size);
+  const Field low = local_plane(depth.cast<double>().array(), mask, 0.187 * detail_size);
   detail::parallel_for(int(depth.rows()), kRowsPerChunk, 0, [&](int r) {
     for (Eigen::Index c = 0; c < depth.cols(); ++c)
       if (mask(r, c)) depth(r, c) -= float(low(r, c));

@@ -40,12 +40,15 @@ double relief_scale(const ImageF& image, const Mask& mask);
 /// @return H x W, only masked pixels marked.
 Mask bright_lines(const ImageF& image, const Mask& mask, int width, double contrast);
 
-/// Damps the forms larger than `detail_size` pixels out of a relief's depth: subtracts its masked
-/// Gaussian blur (normalized convolution, so the mask's edge and the frame's do not pull the level)
-/// of standard deviation 0.187 detail_size, a high-pass that keeps half of a sinusoid of wavelength
-/// detail_size, a sixth of one twice as long and a twentieth at four times; then every 4-connected
-/// component's minimum is 0 again. A drift of the integration (slopes read slightly wrong over a
-/// large area) is such a form; the detail is not.
+/// Damps the forms larger than `detail_size` pixels out of a relief's depth: subtracts its local
+/// plane, at every pixel the masked least-squares plane through the depth around it weighted by a
+/// Gaussian of standard deviation 0.187 detail_size (first-order normalized convolution). Inside the
+/// frame and the mask that is the Gaussian blur, a high-pass that keeps half of a sinusoid of
+/// wavelength detail_size, a sixth of one twice as long and a twentieth at four times; at their
+/// edges, where the window is one-sided, the plane follows a slope that a mean would lag (and leave
+/// as a band of tilted normals along the edge). Then every 4-connected component's minimum is 0
+/// again. A drift of the integration (slopes read slightly wrong over a large area) is such a form;
+/// the detail is not.
 ///
 /// @param[in,out] depth   H x W, pixel units (x = column, y = -row).
 /// @param[in] mask        H x W.
