@@ -48,22 +48,33 @@ def record_progress(state: dict) -> None:
     reconstruct_job.Job.progress = progress
 
 
+def invoke_reconstruct() -> None:
+    """Invokes Reconstruct as the UI does, from the 3D Viewport."""
+    with bpy.context.temp_override(**view3d_override()):
+        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+
+
 def reconstruct_until(finished, failure: str):
     """Steps: invokes Reconstruct as the UI does, then waits timer ticks until finished() (at most
     600: 60 s at the scripts' 0.1 s); returns how many ticks that took."""
-    with bpy.context.temp_override(**view3d_override()):
-        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+    invoke_reconstruct()
     return (yield from wait_until(finished, failure))
+
+
+def start_held(state: dict):
+    """Steps: invokes Reconstruct with the job to be held at its progress calls (record_progress) and
+    waits until it reaches the first."""
+    state["fractions"].clear()
+    state["hold"] = True
+    invoke_reconstruct()
+    yield from wait_until(lambda: state["fractions"], "the job never reported progress")
 
 
 def reconstruct_held_until(state: dict, finished, failure: str, held_ticks: int = 3):
     """Steps: as reconstruct_until, with the job held at its first progress call for ``held_ticks``
     timer ticks, so that the check that Blender keeps running while the worker works does not depend
     on how fast this machine reconstructs; returns the ticks after the job was let go."""
-    state["hold"] = True
-    with bpy.context.temp_override(**view3d_override()):
-        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
-    yield from wait_until(lambda: state["fractions"], "the job never reported progress")
+    yield from start_held(state)
     for _ in range(held_ticks):
         yield
     assert any_running(), "the worker stopped while it was held"
@@ -90,12 +101,7 @@ def any_running() -> bool:
 def cancel_with_esc(state: dict):
     """Steps (a generator: each yield waits for a timer tick): invokes Reconstruct as the UI does with
     the job held at its first progress call, presses Esc, and waits until the worker has stopped."""
-    state["fractions"].clear()
-    state["hold"] = True
-    with bpy.context.temp_override(**view3d_override()):
-        assert bpy.ops.shadecut.reconstruct("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
-    while not state["fractions"]:
-        yield
+    yield from start_held(state)
     bpy.context.window_manager.windows[0].event_simulate(type="ESC", value="PRESS")
     for _ in range(100):  # the worker stops at its next progress call
         yield
