@@ -13,7 +13,10 @@ is read by:
   the strength of least mean error over the training renders), and per render the best one knowing
   the true normals (an oracle bound no artist has);
 - **ShadeCut**: ``shadecut.reconstruct(photograph, light, scene="relief")`` with the true light, and
-  with the light estimated (``light=None``), every other option default.
+  with the light estimated (``light=None``), every other option default;
+- **ShadeCut given the true shading**, an oracle of what telling paint from relief perfectly would
+  leave: the photograph's luminance divided by the true albedo's, reconstructed with ``albedo=1``,
+  the true light given and estimated.
 
 The metric is ``shadecut.angular_error`` against the measured normal map, in degrees, over every
 pixel. A row is one (material, light, method); ``below_flat`` says whether it beats flat on that render.
@@ -41,7 +44,12 @@ HEIGHT_TRAINED = "image as height (training-chosen strength)"
 HEIGHT_BEST = "image as height (best strength, knowing the truth)"
 SHADECUT_TRUE = "ShadeCut, true light"
 SHADECUT_ESTIMATED = "ShadeCut, light estimated"
-METHODS = (FLAT, HEIGHT_TRAINED, HEIGHT_BEST, SHADECUT_TRUE, SHADECUT_ESTIMATED)
+SHADING_TRUE = "ShadeCut given the true shading, true light"
+SHADING_ESTIMATED = "ShadeCut given the true shading, light estimated"
+METHODS = (FLAT, HEIGHT_TRAINED, HEIGHT_BEST, SHADECUT_TRUE, SHADECUT_ESTIMATED, SHADING_TRUE, SHADING_ESTIMATED)
+# ShadeCut's rows: (method, light given, read the true shading instead of the photograph).
+_SHADECUT_READINGS = ((SHADECUT_TRUE, True, False), (SHADECUT_ESTIMATED, False, False),
+                      (SHADING_TRUE, True, True), (SHADING_ESTIMATED, False, True))
 
 LIGHT_COUNT = 4  # from the top, the left, the bottom and the right (materials.lights_around)
 SLANT_DEGREES = 40.0
@@ -122,11 +130,20 @@ def _row(material: str, light: np.ndarray, method: str, mean_deg: Optional[float
             "method": method, "mean_deg": mean_deg, **extra}
 
 
-def _shadecut_row(material: Material, photograph: np.ndarray, light: np.ndarray, given: bool, options: dict) -> dict:
-    """ShadeCut's row on one render, light given or estimated; a refused call is a failed row."""
-    method = SHADECUT_TRUE if given else SHADECUT_ESTIMATED
+def true_shading(material: Material, photograph: np.ndarray) -> np.ndarray:
+    """(H, W) float32: the photograph's luminance over the true albedo's (0 where the albedo is black)."""
+    weights = np.array(LUMINANCE_WEIGHTS)
+    albedo = np.asarray(material.albedo, dtype=np.float64) @ weights
+    luminance = np.asarray(photograph, dtype=np.float64) @ weights
+    return np.where(albedo > 0, luminance / np.where(albedo > 0, albedo, 1.0), 0.0).astype(np.float32)
+
+
+def _shadecut_row(material: Material, photograph: np.ndarray, light: np.ndarray, reading: tuple, options: dict) -> dict:
+    """ShadeCut's row on one render (one of _SHADECUT_READINGS); a refused call is a failed row."""
+    method, given, shading = reading
+    image, albedo = (true_shading(material, photograph), {"albedo": 1.0}) if shading else (photograph, {})
     try:
-        result = reconstruct(photograph, light if given else None, scene="relief", **options)
+        result = reconstruct(image, light if given else None, scene="relief", **{**options, **albedo})
     except ValueError as error:
         return _row(material.name, light, method, None, error=str(error).removeprefix("shadecut: "))
     extra = {} if given else {"light_error_deg": light_error(result.light, light)}
@@ -145,7 +162,7 @@ def render_rows(material: Material, light: np.ndarray, photograph: np.ndarray, s
     rows = [_row(material.name, light, FLAT, flat),
             _row(material.name, light, HEIGHT_TRAINED, trained, strength=float(strength)),
             _row(material.name, light, HEIGHT_BEST, float(errors[best]), strength=float(STRENGTHS[best]))]
-    rows += [_shadecut_row(material, photograph, light, given, options or {}) for given in (True, False)]
+    rows += [_shadecut_row(material, photograph, light, reading, options or {}) for reading in _SHADECUT_READINGS]
     for row in rows:
         row["below_flat"] = None if row["method"] == FLAT or row["mean_deg"] is None else bool(row["mean_deg"] < flat)
     return rows
