@@ -3,6 +3,7 @@ against plain least squares over the same photographs (every one, nothing left o
 alone (the mean over the set) and, for the materials, a flat normal map.
 
     PYTHONPATH=addon /usr/bin/python3 scripts/measure_photometric.py [DATA_FOLDER] [--rug-figure PNG] [--rug-nearness]
+        [--two-photograph-bounds [--albedo-weights W ...] [--iterations N] [--objects NAME ...]]
 
 - DiLiGenT (DATA_FOLDER/diligent): 2, 4, 8 and all 19 of an object's photographs with their
   calibrated lights; one photograph is graphcut with its light. Then 4, 8 and all with the lights
@@ -13,6 +14,10 @@ alone (the mean over the set) and, for the materials, a flat normal map.
   with cast shadows (materials.lambertian_photographs); one photograph is the relief reconstruction
   with its light. Mean over every pixel.
 
+- With --two-photograph-bounds, only what DiLiGenT's two photographs (079, 031) can give, by the
+  bounds of shadecut.evaluation.two_photograph_bounds: one albedo for the object, and the descent
+  from the truth on the circles of the paper's smoothness plus an albedo term of each weight
+  (--albedo-weights, default 0 1), at most --iterations steps (default 2000), on --objects.
 - The felt rug (DATA_FOLDER/multi_angle/felt_rug), with --rug-figure: its four real photographs,
   the lights named by their sides, drawn beside the normal map, the de-lit colour and the depth.
   With --rug-nearness, only whether its lamp stood near: the residual at lamp distances and the four
@@ -35,6 +40,9 @@ import numpy as np
 import shadecut
 from shadecut import diligent, imaging, materials
 from shadecut.evaluation import PHOTOGRAPH_SETS, median_light_error, plain_least_squares, set_label
+from shadecut.evaluation import two_photograph_bounds
+
+OBJECTS = ("ball", "cat", "reading")
 
 MATERIAL_SLANT_DEGREES = 40.0
 
@@ -147,14 +155,43 @@ def rug_nearness(folder: Path) -> None:
           + ", ".join(f"{value / values[0]:.2f}" for value in values))
 
 
+def two_photograph_row(folder: Path, albedo_weights: list[float], iterations: int) -> str:
+    loaded = diligent.load_object(folder, images=PHOTOGRAPH_SETS["two"])
+    scored = shadecut.erode_mask(loaded.mask, 2)
+    circles = two_photograph_bounds.pair_circles(loaded.photos, loaded.lights, loaded.mask)
+    error, quantile = two_photograph_bounds.one_albedo_bound(circles, loaded.normals, scored)
+    cells = [f"{error:.2f} (quantile {quantile:.3f})"]
+    for weight in albedo_weights:
+        descent = two_photograph_bounds.circle_descent(circles, loaded.normals, scored, weight, iterations)
+        cells.append(f"{descent.error_before:.2f} → {descent.error_after:.2f} ({descent.iterations} steps)")
+    return f"| {folder.name[:-3]} | {circles.usable[scored].mean():.1%} | " + " | ".join(cells) + " |"
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("data", nargs="?", type=Path, default=Path(__file__).resolve().parents[2] / "shared" / "data")
     parser.add_argument("--rug-figure", type=Path, help="draw the felt rug's reconstruction into this PNG")
     parser.add_argument("--rug-nearness", action="store_true",
                         help="only measure whether the felt rug's lamp stood near (residuals, singular values)")
+    parser.add_argument("--two-photograph-bounds", action="store_true",
+                        help="only what two of DiLiGenT's photographs can give (the bounds, slow: minutes)")
+    parser.add_argument("--albedo-weights", type=float, nargs="+", default=[0.0, 1.0],
+                        help="with --two-photograph-bounds: the albedo weights of the descents (default 0 1)")
+    parser.add_argument("--iterations", type=int, default=2000,
+                        help="with --two-photograph-bounds: L-BFGS steps of each descent at most (default 2000)")
+    parser.add_argument("--objects", nargs="+", choices=OBJECTS, default=list(OBJECTS),
+                        help="with --two-photograph-bounds: the DiLiGenT objects (default all three)")
     arguments = parser.parse_args()
     data = arguments.data
+    if arguments.two_photograph_bounds:
+        weights = arguments.albedo_weights
+        print("| object | lit in both | one albedo, the truth's choice | "
+              + " | ".join(f"descent from the truth, albedo weight {w:g}" for w in weights) + " |")
+        print("|---" * (3 + len(weights)) + "|")
+        for name in arguments.objects:
+            if (data / "diligent" / f"{name}PNG").is_dir():
+                print(two_photograph_row(data / "diligent" / f"{name}PNG", weights, arguments.iterations), flush=True)
+        return 0
     if arguments.rug_nearness:
         rug_nearness(data / "multi_angle" / "felt_rug")
         return 0
