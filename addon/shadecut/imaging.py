@@ -24,6 +24,13 @@ def srgb_to_linear(encoded) -> np.ndarray:
     return np.asarray(_core.srgb_to_linear(np.asarray(encoded, dtype=float)), dtype=np.float32)
 
 
+def luminance(image) -> np.ndarray:
+    """(H, W) float64 linear intensity of a linear (H, W) grey or (H, W, 3) RGB image: the Rec. 709
+    luminance the core reads colour through (``shadecut.LUMINANCE_WEIGHTS``); grey is returned as it is."""
+    image = np.asarray(image, dtype=np.float64)
+    return image @ np.array(_core.LUMINANCE_WEIGHTS) if image.ndim == 3 else image
+
+
 def decode_rgba(rgba: np.ndarray, *, srgb_encoded: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Linear intensity (H, W), mask (H, W) and linear RGB (H, W, 3) from an (H, W, 4) RGBA buffer
     with row 0 at the top: the rule ``shadecut.load_image`` follows (Rec. 709 luminance after

@@ -23,6 +23,17 @@ def test_intensity_is_rec709_luminance_and_alpha_the_mask():
     assert has_alpha
 
 
+def test_luminance_of_an_array_is_the_cores_intensity_and_grey_stays_grey():
+    rng = np.random.default_rng(0)
+    rgb = rng.uniform(0.0, 1.0, (5, 7, 3)).astype(np.float32)
+    rgba = np.concatenate([rgb, np.ones((5, 7, 1), np.float32)], axis=-1)
+    intensity, _, _ = imaging.intensity_and_mask(rgba, srgb_encoded=False)
+    np.testing.assert_allclose(imaging.luminance(rgb), intensity, rtol=1e-6)
+    grey = rgb[..., 0]
+    np.testing.assert_array_equal(imaging.luminance(grey), grey)
+    assert imaging.luminance(grey).dtype == np.float64
+
+
 def test_opaque_image_has_no_mask():
     rgba = np.ones((4, 4, 4), np.float32)
     _, mask, has_alpha = imaging.intensity_and_mask(rgba, srgb_encoded=True)

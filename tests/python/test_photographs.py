@@ -8,7 +8,7 @@ import pytest
 
 import shadecut
 from shadecut import diligent, materials, synthetic
-from shadecut.evaluation import two_photograph_bounds
+from shadecut.evaluation import plain_least_squares, two_photograph_bounds
 
 DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 DILIGENT = DATA / "diligent"
@@ -200,10 +200,7 @@ def diligent_error(name: str, images: list) -> tuple[float, float]:
     """Ours and plain least squares (every photograph, nothing left out) on DiLiGenT, calibrated lights."""
     loaded, inner = diligent_object(name, images)
     ours = shadecut.reconstruct(loaded.photos, loaded.lights, loaded.mask)
-    grey = np.stack([photo @ np.array([0.2126, 0.7152, 0.0722]) for photo in loaded.photos], axis=-1)
-    scaled = grey[loaded.mask] @ np.linalg.pinv(loaded.lights).T
-    plain = np.zeros_like(loaded.normals)
-    plain[loaded.mask] = scaled / np.maximum(np.linalg.norm(scaled, axis=-1, keepdims=True), 1e-12)
+    plain = plain_least_squares(loaded.photos, loaded.lights)
     return (shadecut.angular_error(ours.normals, loaded.normals, inner),
             shadecut.angular_error(plain, loaded.normals, inner))
 

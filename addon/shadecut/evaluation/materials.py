@@ -33,7 +33,8 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from .. import LUMINANCE_WEIGHTS, angular_error, normals_from_depth, reconstruct
+from .. import angular_error, normals_from_depth, reconstruct
+from ..imaging import luminance
 from ..atomic_write import write_text
 from ..materials import TEST, TRAINING, Material, lambertian_photographs, lights_around, load_material
 from .metrics import light_error
@@ -76,9 +77,7 @@ def flat_normals(shape: Sequence[int]) -> np.ndarray:
 def image_as_height(photograph: np.ndarray, strength: float) -> np.ndarray:
     """(H, W, 3) unit normals of the photograph's linear luminance x ``strength`` read as a height in
     pixel units (brighter = higher), as a Bump node reads it; ``photograph`` (H, W) or (H, W, 3) linear."""
-    photograph = np.asarray(photograph, dtype=np.float64)
-    luminance = photograph @ np.array(LUMINANCE_WEIGHTS) if photograph.ndim == 3 else photograph
-    return normals_from_depth(strength * luminance)
+    return normals_from_depth(strength * luminance(photograph))
 
 
 def height_errors(photograph: np.ndarray, truth: np.ndarray, strengths: Sequence[float] = STRENGTHS) -> np.ndarray:
@@ -132,10 +131,8 @@ def _row(material: str, light: np.ndarray, method: str, mean_deg: Optional[float
 
 def true_shading(material: Material, photograph: np.ndarray) -> np.ndarray:
     """(H, W) float32: the photograph's luminance over the true albedo's (0 where the albedo is black)."""
-    weights = np.array(LUMINANCE_WEIGHTS)
-    albedo = np.asarray(material.albedo, dtype=np.float64) @ weights
-    luminance = np.asarray(photograph, dtype=np.float64) @ weights
-    return np.where(albedo > 0, luminance / np.where(albedo > 0, albedo, 1.0), 0.0).astype(np.float32)
+    albedo = luminance(material.albedo)
+    return np.where(albedo > 0, luminance(photograph) / np.where(albedo > 0, albedo, 1.0), 0.0).astype(np.float32)
 
 
 def _shadecut_row(material: Material, photograph: np.ndarray, light: np.ndarray, reading: tuple, options: dict) -> dict:

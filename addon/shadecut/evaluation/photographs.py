@@ -19,7 +19,8 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from .. import FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS, LUMINANCE_WEIGHTS, diligent, reconstruct
+from .. import FEWEST_PHOTOGRAPHS_TO_ESTIMATE_LIGHTS, diligent, reconstruct
+from ..imaging import luminance
 from ..file_kinds import read_text
 from .inputs import EvaluationError, read_manifest
 from .metrics import light_error, normal_errors
@@ -44,8 +45,7 @@ def set_label(name: str, images: Optional[Sequence[int]], count: int) -> str:
 def plain_least_squares(photographs: Sequence[np.ndarray], lights: np.ndarray) -> np.ndarray:
     """The baseline: per pixel, the luminances times the pseudo-inverse of the K x 3 lights,
     normalized; every photograph used, nothing left out (shadows and highlights included)."""
-    grey = np.stack([np.asarray(photo) @ np.array(LUMINANCE_WEIGHTS) if np.ndim(photo) == 3 else np.asarray(photo)
-                     for photo in photographs], axis=-1)
+    grey = np.stack([luminance(photo) for photo in photographs], axis=-1)
     scaled = grey @ np.linalg.pinv(np.asarray(lights, dtype=np.float64)).T
     return scaled / np.maximum(np.linalg.norm(scaled, axis=-1, keepdims=True), 1e-12)
 

@@ -25,7 +25,8 @@ from typing import Sequence
 
 import numpy as np
 
-from .. import LUMINANCE_WEIGHTS, ReconstructOptions, angular_error
+from .. import ReconstructOptions, angular_error
+from ..imaging import luminance
 
 # Numerical smoothing of |x| as sqrt(x^2 + eps), so that the descent has a gradient everywhere: for
 # the chords of unit normals (0..2) and for those of the log albedo.
@@ -55,8 +56,7 @@ def pair_circles(photographs: Sequence[np.ndarray], lights: np.ndarray, mask: np
     (ReconstructOptions.photometric_shadow_fraction)."""
     if len(photographs) != 2 or np.shape(lights) != (2, 3):
         raise ValueError("two photographs and their two lights (2 x 3) are needed")
-    grey = np.stack([photo @ np.array(LUMINANCE_WEIGHTS) if np.ndim(photo) == 3 else np.asarray(photo, np.float64)
-                     for photo in photographs])
+    grey = np.stack([luminance(photo) for photo in photographs])
     directions = _unit(np.asarray(lights, dtype=np.float64))
     axis = _unit(grey[1][..., None] * directions[0] - grey[0][..., None] * directions[1])
     fraction = ReconstructOptions().photometric_shadow_fraction
@@ -96,10 +96,9 @@ def one_albedo_bound(circles: PairCircles, truth: np.ndarray, scored: np.ndarray
 
 
 def _smooth_lengths(differences: np.ndarray, eps: float) -> tuple[np.ndarray, np.ndarray]:
-    """sqrt(|d|^2 + eps) of each difference (N x 3, or N), and its derivative by d."""
-    squared = np.sum(differences**2, axis=-1) if differences.ndim == 2 else differences**2
-    lengths = np.sqrt(squared + eps)
-    return lengths, differences / (lengths[:, None] if differences.ndim == 2 else lengths)
+    """sqrt(|d|^2 + eps) of each row d of ``differences`` (N x D), and its derivative by d (N x D)."""
+    lengths = np.sqrt(np.sum(differences**2, axis=-1) + eps)
+    return lengths, differences / lengths[:, None]
 
 
 @dataclass
@@ -158,10 +157,11 @@ class _CircleEnergy:
             facing = np.maximum(field @ self.light_sum, _LEAST_FACING)
             log_albedo = self.log_brightness - np.log(facing)
             first, second = self.first[self.albedo_pairs], self.second[self.albedo_pairs]
-            albedo_lengths, albedo_slopes = _smooth_lengths(log_albedo[first] - log_albedo[second], _LOG_ALBEDO_EPS)
+            albedo_lengths, albedo_slopes = _smooth_lengths((log_albedo[first] - log_albedo[second])[:, None],
+                                                            _LOG_ALBEDO_EPS)
             by_log_albedo = np.zeros(len(field))
-            np.add.at(by_log_albedo, first, self.weight * albedo_slopes)
-            np.add.at(by_log_albedo, second, -self.weight * albedo_slopes)
+            np.add.at(by_log_albedo, first, self.weight * albedo_slopes[:, 0])
+            np.add.at(by_log_albedo, second, -self.weight * albedo_slopes[:, 0])
             energy += self.weight * float(albedo_lengths.sum())
             gradient += by_log_albedo[self.pixels] * -(turning @ self.light_sum) / facing[self.pixels]
         return energy, gradient
