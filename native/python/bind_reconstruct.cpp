@@ -86,7 +86,7 @@ void bind_stats(py::module_& m) {
       .def_readonly("seconds", &ReconstructStats::seconds, "seconds per stage run, and 'total'")
       .def_readonly("energy_per_cycle", &ReconstructStats::energy_per_cycle, "initial energy, then after every cycle")
       .def_readonly("cycles", &ReconstructStats::cycles)
-      .def_readonly("iterations", &ReconstructStats::iterations, "cycles, brooks_horn / tsai_shah sweeps, or upwind rounds")
+      .def_readonly("iterations", &ReconstructStats::iterations, "cycles, brooks_horn / tsai_shah sweeps, upwind rounds or pentland solves")
       .def_readonly("light_estimated", &ReconstructStats::light_estimated)
       .def_readonly("light_uncertainty", &ReconstructStats::light_uncertainty,
                     "degrees: how far the estimated light may be off (light_method contour: its fit's misfit); NaN when "

@@ -128,7 +128,7 @@ def test_mozart_every_method_side_by_side(mozart_path):
     errors = {m: error_of(mozart, m)[0] for m in shadecut.METHODS}
     print("Mozart, light (1, 0, 1), true light and albedo, mean angular error on the mask eroded by 2 px: "
           + ", ".join(f"{m} {e:.2f} deg" for m, e in errors.items()))
-    assert set(errors) == {"graphcut", "graphcut_two", "lee_rosenfeld", "brooks_horn", "tsai_shah", "upwind"}
+    assert set(errors) == {"graphcut", "graphcut_two", "lee_rosenfeld", "brooks_horn", "tsai_shah", "upwind", "pentland"}
     assert errors["graphcut"] < errors["lee_rosenfeld"]
     assert errors["graphcut"] < errors["tsai_shah"]
     assert errors["graphcut"] < errors["upwind"]  # issue 15: graphcut below the modern baseline here

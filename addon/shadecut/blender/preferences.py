@@ -15,6 +15,7 @@ METHOD_DESCRIPTIONS = {
     "brooks_horn": ("Brooks & Horn", "Global variational method (brightness, smoothness, unit normals)"),
     "tsai_shah": ("Tsai & Shah", "Local linear approximation of the reflectance map, Newton steps on depth"),
     "upwind": ("Upwind (viscosity)", "The image's PDE solved outward from the outline by upwind sweeps: a convex object"),
+    "pentland": ("Pentland (linear, reliefs)", "The slope along the light read from a nearly flat relief; leans flat where the image says little"),
 }
 
 METHOD_ITEMS = tuple((name, *METHOD_DESCRIPTIONS.get(name, (name, name))) for name in METHODS)

@@ -27,6 +27,7 @@ const std::vector<MethodEntry>& method_registry() {
       {"brooks_horn", defaults(0.0, 0.0, 1e-5, 8000, 0.3), &solve_brooks_horn},
       {"tsai_shah", defaults(0.0, 0.0, 0.0, 1, 0.0), &solve_tsai_shah},
       {"upwind", defaults(0.0, 0.0, 0.0, 3, 0.0), &solve_upwind},
+      {"pentland", defaults(0.0, 0.0, 0.0, 4, 3.0), &solve_pentland},
   };
   return registry;
 }

@@ -44,5 +44,6 @@ NormalMap solve_lee_rosenfeld(const MethodInput& input, ReconstructStats& stats)
 NormalMap solve_brooks_horn(const MethodInput& input, ReconstructStats& stats);
 NormalMap solve_tsai_shah(const MethodInput& input, ReconstructStats& stats);
 NormalMap solve_upwind(const MethodInput& input, ReconstructStats& stats);
+NormalMap solve_pentland(const MethodInput& input, ReconstructStats& stats);
 
 }  // namespace shadecut::detail

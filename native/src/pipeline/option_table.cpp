@@ -67,9 +67,10 @@ std::vector<OptionField> iterative_and_paint_fields() {
       {"tolerance", G::Iterative, &O::tolerance, at_least(0.0),
        "graph cuts: stop when a cycle lowers the energy by at most this share; brooks_horn: when a sweep moves the normals by at most this; None = the method's default", {}},
       {"iterations", G::Iterative, &O::iterations, at_least(0.0),
-       "brooks_horn and tsai_shah sweeps, upwind rounds; None = the method's default", {}},
+       "brooks_horn and tsai_shah sweeps, upwind rounds, pentland solves; None = the method's default", {}},
       {"smoothness", G::Iterative, &O::smoothness, above(0.0),
-       "brooks_horn's lambda for an object 128 pixels across, scaled with its area; None = the method's default", {}},
+       "brooks_horn's lambda for an object 128 pixels across, scaled with its area; pentland's weight of the slope across "
+       "the light; None = the method's default", {}},
       {"albedo_method", G::Paint, &O::albedo_method, {},
        "how the albedo is read when none is given: one value (top_fit, brightest) or per pixel (retinex: paint told "
        "from shading)", {}},
@@ -109,8 +110,8 @@ std::vector<OptionField> surface_fields() {
       {"fit_max_slant", G::Refinement, &O::fit_max_slant, above_up_to(0.0, 90.0),
        "fit_shading: pixels steeper than this many degrees are not fitted (their neighbours carry them); 90 = every pixel", {}},
       {"detail_size", G::Relief, &O::detail_size, any_finite(),
-       "reliefs: forms larger than this many pixels are carrier and damped out; 0 = read from the image; < 0 = keep "
-       "every form", {}},
+       "reliefs: forms larger than this many pixels are carrier and damped out; 0 = read from the image (pentland: "
+       "keep every form); < 0 = keep every form", {}},
       {"detail_scale_factor", G::Relief, &O::detail_scale_factor, above(0.0),
        "reliefs with detail_size 0: the detail size in units of the relief's own scale", {}},
       {"paint_line_width", G::Relief, &O::paint_line_width, between(0.0, 1024.0),

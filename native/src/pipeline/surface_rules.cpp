@@ -19,6 +19,9 @@ double detail_size_used(const ImageF& image, const Mask& mask, const Reconstruct
   const double none = std::numeric_limits<double>::quiet_NaN();
   if (options.scene != SceneKind::Relief || options.seamless || options.detail_size < 0.0) return none;
   if (options.detail_size > 0.0) return options.detail_size;
+  // The damping takes out the integration's drift; pentland's depth is one least-squares solve, whose large
+  // forms are the image's (docs/comparison_methods.md, pentland).
+  if (options.method == Method::Pentland) return none;
   const double size = options.detail_scale_factor * relief_scale(image, mask);
   return std::isfinite(size) ? size : none;
 }

@@ -14,7 +14,7 @@ double shadow_threshold_used(const ReconstructOptions& options);
 bool edge_is_outline(const ReconstructOptions& options);
 
 /// The detail size of a relief's call (ReconstructStats::detail_size): NaN for objects, seamless
-/// output and detail_size < 0, and for a uniform image, which has no scale.
+/// output and detail_size < 0, for a uniform image, which has no scale, and for pentland unless given.
 double detail_size_used(const ImageF& image, const Mask& mask, const ReconstructOptions& options);
 
 /// A relief made what a relief is: on a flat carrier facing the viewer, without the forms larger than

@@ -13,6 +13,7 @@ enum class Method {
   BrooksHorn,   ///< "brooks_horn": Brooks & Horn's variational iteration (brooks_horn.hpp), normals integrated
   TsaiShah,     ///< "tsai_shah": Tsai & Shah's linearized depth iteration (tsai_shah.hpp), normals from its depth
   Upwind,       ///< "upwind": the viscosity solution by upwind fast sweeping (upwind.hpp), normals from its depth
+  Pentland,     ///< "pentland": Pentland's linear shape from shading for reliefs (pentland.hpp), normals from its depth
 };
 
 /// Every method's name, in the order of the enum (the method registry's).
@@ -28,8 +29,8 @@ struct MethodDefaults {
   double min_curvature = 0.0;     ///< graph-cut methods, lee_rosenfeld (ReconstructOptions::min_curvature)
   double undefined_weight = 0.0;  ///< graph-cut methods (ReconstructOptions::undefined_weight)
   double tolerance = 0.0;         ///< graph-cut methods: share of the energy; brooks_horn: mean |dn| per sweep
-  int iterations = 0;             ///< brooks_horn, tsai_shah sweeps; upwind: most rounds of sweeps
-  double smoothness = 0.0;        ///< brooks_horn (ReconstructOptions::smoothness)
+  int iterations = 0;             ///< brooks_horn, tsai_shah sweeps; upwind: most rounds of sweeps; pentland solves
+  double smoothness = 0.0;        ///< brooks_horn, pentland (ReconstructOptions::smoothness)
 };
 MethodDefaults method_defaults(Method method);
 

@@ -88,7 +88,7 @@ struct ReconstructOptions {
   // Runtime
   int threads = 0;
   /// Told the fraction of the call done and the stage: "cut_out", "light" (estimating it), "local", "energy",
-  /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading"; with several photographs
+  /// "graphcut", "brooks_horn", "tsai_shah", "upwind", "pentland", "integration", "fit_shading"; with several photographs
   /// also "photometric stereo" and "candidate cut". Returning false cancels.
   ProgressCallback progress;
 };

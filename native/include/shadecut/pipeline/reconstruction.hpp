@@ -16,12 +16,12 @@ namespace shadecut {
 
 struct ReconstructStats {
   std::map<std::string, double> seconds;    ///< per stage run ("light", "local", "energy", "graphcut",
-                                            ///< "brooks_horn", "tsai_shah", "upwind", "integration", "fit_shading", "orientation": the
+                                            ///< "brooks_horn", "tsai_shah", "upwind", "pentland", "integration", "fit_shading", "orientation": the
                                             ///< inverted surface judged, judge_orientation) and "total"; with retinex
                                             ///< summed over its passes, beside "albedo" (the paint)
   std::vector<double> energy_per_cycle;     ///< initial energy, then after every alpha-expansion cycle
   int cycles = 0;
-  int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps, upwind rounds; 0 for lee_rosenfeld
+  int iterations = 0;                       ///< alpha-expansion cycles, brooks_horn or tsai_shah sweeps, upwind rounds, pentland solves; 0 for lee_rosenfeld
   bool light_estimated = false;             ///< whether the light (and, without a given albedo, the albedo) was estimated
   /// degrees: how far the estimated light may be off (LightEstimate::uncertainty), NaN
   /// when the light was given or its estimator does not know it

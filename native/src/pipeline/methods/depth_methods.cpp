@@ -1,10 +1,13 @@
-// tsai_shah and upwind: methods that solve for the depth (baselines/tsai_shah.hpp, upwind.hpp); their
-// normals are the depth's.
+// tsai_shah, upwind and pentland: methods that solve for the depth (baselines/tsai_shah.hpp, upwind.hpp,
+// pentland.hpp); their normals are the depth's.
+#include <shadecut/baselines/pentland.hpp>
 #include <shadecut/baselines/tsai_shah.hpp>
 #include <shadecut/baselines/upwind.hpp>
+#include <shadecut/integrate/shadow_fill.hpp>
 #include <shadecut/support/render.hpp>
 
 #include "pipeline/method_registry.hpp"
+#include "pipeline/surface_rules.hpp"
 #include "support/stopwatch.hpp"
 
 namespace shadecut::detail {
@@ -25,6 +28,18 @@ NormalMap depth_method_normals(const MethodInput& input, ReconstructStats& stats
 }
 
 }  // namespace
+
+// Shadows, highlights and a relief's paint lines (read as shadow) say nothing of the slope: pentland reads
+// them as flat ground, where their darkness would be read as a slope along the whole line of the light.
+NormalMap solve_pentland(const MethodInput& input, ReconstructStats& stats) {
+  const ReconstructOptions& options = input.options;
+  const double smoothness = options.smoothness.value_or(method_defaults(Method::Pentland).smoothness);
+  const Mask read = input.mask && !unreliable_pixels(input.image, input.mask, input.albedo, shadow_threshold_used(options),
+                                                     highlight_threshold_used(options));
+  return depth_method_normals(input, stats, [&](int solves) {
+    return pentland(input.image, read, input.frame, input.albedo, smoothness, solves, input.progress);
+  });
+}
 
 NormalMap solve_tsai_shah(const MethodInput& input, ReconstructStats& stats) {
   return depth_method_normals(input, stats, [&input](int sweeps) {
