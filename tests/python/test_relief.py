@@ -19,16 +19,10 @@ def plane_slope(depth: np.ndarray) -> float:
 
 
 def pentland(image: np.ndarray, light, albedo: float) -> np.ndarray:
-    """Pentland's linear shape from shading (1988), the classic for shallow reliefs: the image's
-    variation is linear in the gradients, I - mean = -albedo (p S_x + q S_y), solved in Fourier."""
-    s = np.asarray(light, float) / np.linalg.norm(light)
-    wy = 2 * np.pi * np.fft.fftfreq(image.shape[0])[:, None]
-    wx = 2 * np.pi * np.fft.fftfreq(image.shape[1])[None, :]
-    # p = dz/dx is i wx Z; q = dz/dy = -dz/drow is -i wy Z.
-    transfer = -albedo * (1j * wx * s[0] - 1j * wy * s[1])
-    usable = np.abs(transfer) > 1e-3
-    spectrum = np.fft.fft2(image - image.mean())
-    return np.real(np.fft.ifft2(np.where(usable, spectrum / np.where(usable, transfer, 1), 0)))
+    """Pentland's linear shape from shading, the classic for shallow reliefs, as he solved it: the
+    first-order solve alone, with next to no weight on the slope across the light."""
+    return shadecut.reconstruct(image, light, None, albedo, scene="relief", method="pentland", smoothness=1e-4,
+                                iterations=1).depth
 
 
 def correlation(a, b) -> float:
