@@ -4,7 +4,8 @@ materials, on the photograph and, as an oracle, on the true shading (the photogr
 albedo), beside flat.
 
 Each reading is ``shadecut.reconstruct(image, light, scene="relief", method="pentland",
-smoothness=w)`` with the true light, ``albedo=1`` for the true shading, every other option default. Each
+smoothness=w)`` with the true light (and, for the photograph, also with the light estimated:
+``light=None``), ``albedo=1`` for the true shading, every other option default. Each
 input's smoothness w is chosen by the one documented procedure of the materials evaluation: the value
 of :data:`SMOOTHNESSES` of least mean error over the training half's renders, applied to the test half.
 """
@@ -23,15 +24,16 @@ from .materials import default_lights, flat_normals, load_half, renders, true_sh
 # The weights of |grad z|^2 tried, against the slope along the light's direction (a ratio of two
 # squared slopes, the same at every resolution).
 SMOOTHNESSES = (0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0)
-INPUTS = ("photograph", "true shading")
+INPUTS = ("photograph", "photograph, light estimated", "true shading")
 
 
 def linear_errors(photograph: np.ndarray, shading: np.ndarray, light: np.ndarray, truth: np.ndarray) -> dict:
     """Per input of :data:`INPUTS`, the mean angular error (degrees) at each of :data:`SMOOTHNESSES`."""
-    readings = {"photograph": (photograph, {}), "true shading": (shading, {"albedo": 1.0})}
-    return {name: np.array([angular_error(reconstruct(image, light, scene="relief", method="pentland", smoothness=w,
+    readings = {"photograph": (photograph, light, {}), "photograph, light estimated": (photograph, None, {}),
+                "true shading": (shading, light, {"albedo": 1.0})}
+    return {name: np.array([angular_error(reconstruct(image, given, scene="relief", method="pentland", smoothness=w,
                                                       **albedo).normals, truth) for w in SMOOTHNESSES])
-            for name, (image, albedo) in readings.items()}
+            for name, (image, given, albedo) in readings.items()}
 
 
 def half_errors(folder: os.PathLike | str, names: Sequence[str], lights: np.ndarray) -> dict:
