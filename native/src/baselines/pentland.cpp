@@ -4,6 +4,7 @@
 #include <shadecut/support/validate.hpp>
 
 #include "integrate/fourier.hpp"
+#include "support/masked_gradient.hpp"
 #include "support/parallel.hpp"
 
 #include <algorithm>
@@ -25,21 +26,15 @@ Field slope_along_light(const ImageF& image, const Mask& mask, const ImageF& dep
                         int padded_cols) {
   const int rows = int(image.rows()), cols = int(image.cols());
   Field field(std::size_t(rows + 2 * pad) * std::size_t(padded_cols), 0.0);
-  // Central differences inside the image, one-sided at its edges; y up, so q is the row above less the row below.
-  auto difference = [&](int lower, int upper, int r0, int c0, int r1, int c1) {
-    return double(depth(r1, c1) - depth(r0, c0)) / double(upper - lower);
-  };
+  const Mask whole = Mask::Constant(rows, cols, true);  // the depth covers the image: one-sided only at its edges
   double sum = 0.0;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       if (!mask(r, c)) continue;
       double root = 1.0;
       if (depth.size() > 0) {
-        const int left = std::max(c - 1, 0), right = std::min(c + 1, cols - 1);
-        const int up = std::max(r - 1, 0), down = std::min(r + 1, rows - 1);
-        const double p = right > left ? difference(left, right, r, left, r, right) : 0.0;
-        const double q = down > up ? difference(up, down, down, c, up, c) : 0.0;
-        root = std::sqrt(1.0 + p * p + q * q);
+        const detail::MaskedGradient g = detail::masked_gradient(depth, whole, r, c);
+        root = std::sqrt(1.0 + g.dx * g.dx + g.dy * g.dy);
       }
       const double slope = sz - double(image(r, c)) / albedo * root;
       field[std::size_t(r + pad) * std::size_t(padded_cols) + std::size_t(c + pad)] = slope;

@@ -12,11 +12,13 @@
 
 namespace shadecut::detail {
 
-/// What every method reads: the image (H x W linear intensity, shadows and highlights as the call
-/// marked them), the mask, the light, the albedo, the options and the progress of its share.
+/// What every method reads: the image (H x W linear intensity), the mask, the pixels the call marked
+/// as shadow or highlight (unreliable_pixels; filled after the method), the light, the albedo, the
+/// options and the progress of its share.
 struct MethodInput {
   const ImageF& image;
   const Mask& mask;
+  const Mask& unreliable;
   const LightFrame& frame;
   double albedo;
   const ReconstructOptions& options;

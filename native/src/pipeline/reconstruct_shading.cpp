@@ -77,7 +77,7 @@ std::optional<Surface> make_surface(const ImageF& image, const Mask& unreliable,
                                     const ReconstructOptions& options, const Progress& progress, Reconstruction& result) {
   const Mask& mask = result.mask;
   NormalMap normals = method_entry(options.method)
-                          .solve({image, mask, frame, result.albedo, options, progress.range(0.0, kNormalsShare)}, result.stats);
+                          .solve({image, mask, unreliable, frame, result.albedo, options, progress.range(0.0, kNormalsShare)}, result.stats);
   progress.report(kNormalsShare, "integration");
   const Stopwatch integration;
   Surface surface = surface_from_normals(std::move(normals), mask, unreliable, edge_is_outline(options), options.integrator,

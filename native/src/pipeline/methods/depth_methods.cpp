@@ -3,11 +3,9 @@
 #include <shadecut/baselines/pentland.hpp>
 #include <shadecut/baselines/tsai_shah.hpp>
 #include <shadecut/baselines/upwind.hpp>
-#include <shadecut/integrate/shadow_fill.hpp>
 #include <shadecut/support/render.hpp>
 
 #include "pipeline/method_registry.hpp"
-#include "pipeline/surface_rules.hpp"
 #include "support/stopwatch.hpp"
 
 namespace shadecut::detail {
@@ -32,10 +30,8 @@ NormalMap depth_method_normals(const MethodInput& input, ReconstructStats& stats
 // Shadows, highlights and a relief's paint lines (read as shadow) say nothing of the slope: pentland reads
 // them as flat ground, where their darkness would be read as a slope along the whole line of the light.
 NormalMap solve_pentland(const MethodInput& input, ReconstructStats& stats) {
-  const ReconstructOptions& options = input.options;
-  const double smoothness = options.smoothness.value_or(method_defaults(Method::Pentland).smoothness);
-  const Mask read = input.mask && !unreliable_pixels(input.image, input.mask, input.albedo, shadow_threshold_used(options),
-                                                     highlight_threshold_used(options));
+  const double smoothness = input.options.smoothness.value_or(method_defaults(Method::Pentland).smoothness);
+  const Mask read = input.mask && !input.unreliable;
   return depth_method_normals(input, stats, [&](int solves) {
     return pentland(input.image, read, input.frame, input.albedo, smoothness, solves, input.progress);
   });
