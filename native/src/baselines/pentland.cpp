@@ -77,7 +77,7 @@ PentlandResult pentland(const ImageF& image, const Mask& mask, const LightFrame&
                         double smoothness, int iterations, const Progress& progress) {
   check_iterative_input(image, mask, albedo, iterations);
   if (!(smoothness > 0.0) || !std::isfinite(smoothness))
-    throw InvalidArgument("shadecut: pentland's smoothness must be finite and > 0; got " + std::to_string(smoothness));
+    throw InvalidArgument("shadecut: pentland's smoothness must be finite and > 0; got " + number_text(smoothness));
   const int rows = int(image.rows()), cols = int(image.cols());
   const int pad = std::max(rows, cols) / 8;
   const Eigen::Vector3d& s = light.direction;
