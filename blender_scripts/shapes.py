@@ -80,9 +80,35 @@ def _revolution_mesh(name: str, points: np.ndarray, wrap_v: bool) -> bpy.types.M
     return _smooth(mesh)
 
 
+def _sphere_mesh(name: str, segments: int, rings: int) -> bpy.types.Mesh:
+    """A unit UV sphere about Z: triangle fans at the poles, quads between its rings, every face's
+    corners in one fixed order.
+
+    Not bmesh's create_uvsphere: in Blender 5 its faces' first corners vary from one call to the next,
+    so Cycles splits a quad along either diagonal and the same seed renders a few pixels differently.
+    """
+    polar = np.pi * np.arange(1, rings) / rings
+    azimuth = 2 * np.pi * np.arange(segments) / segments
+    ring_points = np.stack(np.broadcast_arrays(np.sin(polar)[:, None] * np.cos(azimuth), np.sin(polar)[:, None]
+                                               * np.sin(azimuth), np.cos(polar)[:, None]), axis=-1)
+    points = np.concatenate([[(0.0, 0.0, 1.0)], ring_points.reshape(-1, 3), [(0.0, 0.0, -1.0)]])
+    south = len(points) - 1
+
+    def index(ring, segment):
+        return 1 + (ring - 1) * segments + segment % segments
+
+    faces = [(0, index(1, s), index(1, s + 1)) for s in range(segments)]
+    faces += [(index(r, s), index(r + 1, s), index(r + 1, s + 1), index(r, s + 1))
+              for r in range(1, rings - 1) for s in range(segments)]
+    faces += [(south, index(rings - 1, s + 1), index(rings - 1, s)) for s in range(segments)]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(points.tolist(), [], faces)
+    mesh.update(calc_edges=True)
+    return _smooth(mesh)
+
+
 def make_sphere(seed: int) -> list:
-    return [_object("sphere", _bmesh_mesh("sphere", lambda bm: bmesh.ops.create_uvsphere(
-        bm, u_segments=128, v_segments=64, radius=1.0)))]
+    return [_object("sphere", _sphere_mesh("sphere", segments=128, rings=64))]
 
 
 def make_torus(seed: int) -> list:
