@@ -139,3 +139,18 @@ def test_the_truth_of_mozart_and_a_smooth_result_have_no_seams():
     smooth = np.stack([ndimage.gaussian_filter(result.normals[..., k], 3) for k in range(3)], axis=-1)
     assert metrics.seam_share(bust.normals, bust.mask) < 0.1
     assert metrics.seam_share(smooth, bust.mask) == 0.0
+
+
+
+@pytest.mark.parametrize("light, bound", [
+    pytest.param((1.0, 0.0, 1.0), 14.5, marks=pytest.mark.xfail(strict=True, reason=(
+        "measured 17.45: the viscosity pull's labelling renders closer to the image (0.00606 against 0.00638) "
+        "and is further from the truth than the paper's energy alone (14.76)"))),
+    pytest.param((-0.5, 0.8, 1.0), 17.5, marks=pytest.mark.xfail(strict=True, reason=(
+        "measured 20.08 (18.33 without the viscosity pull)"))),
+])
+def test_mozart_within_issue_44s_bounds(mozart_path, light, bound):
+    bust = synthetic.mozart(mozart_path, light)
+    error = bust.mean_error(shadecut.reconstruct(bust.image, bust.light, bust.mask).normals)
+    print(f"Mozart {light}: {error:.2f} deg (issue 44 asks <= {bound})")
+    assert error <= bound
