@@ -141,7 +141,6 @@ def test_the_truth_of_mozart_and_a_smooth_result_have_no_seams():
     assert metrics.seam_share(smooth, bust.mask) == 0.0
 
 
-
 @pytest.mark.parametrize("light, bound", [
     pytest.param((1.0, 0.0, 1.0), 14.5, marks=pytest.mark.xfail(strict=True, reason=(
         "measured 17.45: the viscosity pull's labelling renders closer to the image (0.00606 against 0.00638) "
