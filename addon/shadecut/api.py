@@ -205,7 +205,7 @@ def reconstruct(
 
     Returns:
         a :class:`Reconstruction`: ``normals``, ``depth``, ``mask``, ``albedo``, ``albedo_map``,
-        ``light`` (and ``lights``, one per photograph), ``residual`` (several photographs) and
+        ``light`` (and ``lights``, one per photograph), ``residual`` (how far the photographs are from it) and
         ``stats`` (a :class:`ReconstructStats`).
     """
     chosen = _options(options, ReconstructOptions, "labels=24").replace(**overrides)

@@ -72,7 +72,7 @@ void check_output_folder(const std::filesystem::path& folder) {
 }
 
 const std::vector<std::string> kOutputNames{"depth.exr", "depth.png", "normals.exr", "normals.png",
-                                           "mesh.ply", "albedo.exr", "albedo.png"};
+                                           "mesh.ply", "albedo.exr", "albedo.png", "residual.exr"};
 
 std::string output_names() {
   std::string text;
@@ -119,6 +119,7 @@ void write_outputs(const std::filesystem::path& out, const shadecut::Reconstruct
         else shadecut::save_image(path, result.albedo_map, &result.mask);
       });
     }
+    save_staged(7, [&](const std::string& path) { shadecut::save_image(path, result.residual, &result.mask); });
     if (interrupted) throw Interrupted("interrupted: " + none_written + "; the files there are unchanged");
   } catch (const Interrupted&) {
     throw;

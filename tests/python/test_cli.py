@@ -100,13 +100,14 @@ def test_the_paper_s_energy_alone_from_the_command_line(tmp_path):
         out = tmp_path / ("paper" if flags else "default")
         done = run(tmp_path / "bumps.exr", "--light", "1,0,1", "--albedo", 1, "--out", out, "--quiet", *flags)
         assert done.returncode == 0, done.stderr
-        expected = shadecut.reconstruct(image, (1.0, 0.0, 1.0), albedo=1.0, **options).depth
-        np.testing.assert_allclose(shadecut.load_image(out / "depth.exr").image, expected, atol=1e-4)
+        expected = shadecut.reconstruct(image, (1.0, 0.0, 1.0), albedo=1.0, **options)
+        np.testing.assert_allclose(shadecut.load_image(out / "depth.exr").image, expected.depth, atol=1e-4)
+        np.testing.assert_allclose(shadecut.load_image(out / "residual.exr").image, expected.residual, atol=1e-4)
     bad = run(tmp_path / "bumps.exr", "--light", "1,0,1", "--viscosity-weight", -1, "--out", tmp_path / "bad")
     assert bad.returncode == 2 and "viscosity_weight" in bad.stderr
 
 
-OUTPUTS = ("depth.exr", "depth.png", "normals.exr", "normals.png", "mesh.ply", "albedo.exr", "albedo.png")
+OUTPUTS = ("depth.exr", "depth.png", "normals.exr", "normals.png", "mesh.ply", "albedo.exr", "albedo.png", "residual.exr")
 
 
 def test_a_write_that_fails_part_way_keeps_every_old_file(tmp_path, file_size_limit):

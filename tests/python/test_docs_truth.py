@@ -44,7 +44,7 @@ def test_every_flag_of_the_help_is_in_cli_md_by_name_or_by_its_rule():
 def test_the_readme_names_every_kind_of_file_the_cli_writes():
     table = (DOCS / "cli.md").read_text().split("## Output", 1)[1].split("## Options", 1)[0]
     kinds = {name.split(".")[0] for name in re.findall(r"`([a-z]+\.(?:exr|png|ply))`", table)}
-    assert kinds == {"depth", "normals", "mesh", "albedo"}
+    assert kinds == {"depth", "normals", "mesh", "albedo", "residual"}
     line = next(line for line in (REPO / "README.md").read_text().splitlines()
                 if line.startswith("build/native/shadecut photo.png --light 1,0,1 --out result/"))
     assert all(kind in line.split("#", 1)[1] for kind in kinds), line

@@ -116,6 +116,30 @@ def test_coarse_to_fine_reaches_the_exact_minimum_s_accuracy(scene):
     assert energy["default"] <= 1.05 * energy["exact"]
 
 
+def test_the_residual_of_one_photograph_is_how_far_the_result_renders_from_it():
+    """|image - albedo_map max(0, n . S)| of the result's normals, 0 outside the mask."""
+    scene = synthetic.sphere((1.0, 0.0, 1.0))
+    result = shadecut.reconstruct(scene.image, scene.light, scene.mask, scene.albedo)
+    rendered = result.albedo_map * np.clip(result.normals @ result.light, 0.0, None)
+    np.testing.assert_allclose(result.residual, np.abs(scene.image - rendered) * scene.mask, atol=1e-6)
+    assert result.residual.dtype == np.float32 and not result.residual[~scene.mask].any()
+
+
+def test_the_residual_shows_a_stain_a_relief_cannot_explain():
+    """A square of paint at half the albedo on a brick wall: no relief renders that dark a patch, so
+    it stands out in the residual for every relief method that reads it."""
+    wall = synthetic.bricks((0.5, 0.3, 1.0), size=256, albedo_noise=0.0)
+    image, stain = wall.image.copy(), (slice(100, 140), slice(100, 140))
+    image[stain] *= 0.5
+    elsewhere = np.ones(image.shape, dtype=bool)
+    elsewhere[stain] = False
+    for method in ("graphcut", "pentland"):
+        residual = shadecut.reconstruct(image, wall.light, scene="relief", method=method).residual
+        print(f"{method}: median residual {np.median(residual[stain]):.3f} on the stain, "
+              f"{np.median(residual[elsewhere]):.3f} elsewhere")
+        assert np.median(residual[stain]) > 4.0 * np.median(residual[elsewhere])
+
+
 def test_albedo_is_estimated_from_the_brightest_pixels():
     sphere = synthetic.sphere((1.0, 0.0, 1.0), albedo=0.7)
     result = shadecut.reconstruct(sphere.image, sphere.light, sphere.mask)

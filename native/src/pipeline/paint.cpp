@@ -1,8 +1,9 @@
 // The paint separated from the shading first when the albedo method reads it per pixel, the shape
-// then read from the shading image of one albedo.
+// then read from the shading image of one albedo; how far the photograph is from the result last.
 #include "pipeline/paint.hpp"
 
 #include <shadecut/estimate/estimate_reflectance.hpp>
+#include <shadecut/photometric/residual_map.hpp>
 #include <shadecut/pipeline/stage_params.hpp>
 #include <shadecut/support/render.hpp>
 #include <shadecut/support/validate.hpp>
@@ -74,6 +75,7 @@ Reconstruction reconstruct_painted(const ImageF& image, const ColourImage* colou
     result.albedo_map = result.mask.select(ImageF::Constant(image.rows(), image.cols(), float(result.albedo)), 0.0f);
   }
   if (colour) result.albedo_colour = reflectance_colour(image, *colour, result.mask, result.albedo_map);
+  result.residual = residual_map({image}, {result.light}, NearLamps{}, result.normals, result.albedo_map, result.mask);
   return result;
 }
 

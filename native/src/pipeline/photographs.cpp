@@ -5,11 +5,11 @@
 #include <shadecut/photometric/colour_albedo.hpp>
 #include <shadecut/photometric/estimate_lights.hpp>
 #include <shadecut/photometric/photometric_stereo.hpp>
+#include <shadecut/photometric/residual_map.hpp>
 #include <shadecut/pipeline/relief.hpp>
 #include <shadecut/support/errors.hpp>
 #include <shadecut/support/validate.hpp>
 
-#include "photometric/pixel_lights.hpp"
 #include "pipeline/option_checks.hpp"
 #include "pipeline/surface_rules.hpp"
 #include "pipeline/two_photographs.hpp"
@@ -76,25 +76,7 @@ void fit_albedo_and_residual(const std::vector<Observation>& photographs, const 
   } else {
     result.albedo_map = photometric_albedo(images, lights, result.normals, result.mask, {}, params);
   }
-  result.residual = ImageF::Zero(result.mask.rows(), result.mask.cols());
-  const std::vector<Eigen::Vector3d>& unit = result.lights;
-  const int cols = int(result.mask.cols());
-  parallel_ranges(int(result.mask.rows()), 8, 0, [&](int begin, int end) {
-    PixelLights lights_here(unit, params.lamps);
-    for (int r = begin; r < end; ++r)
-      for (int c = 0; c < cols; ++c) {
-        const Eigen::Index i = Eigen::Index(r) * cols + c;
-        if (!result.mask.data()[i]) continue;
-        lights_here.at(r, c);
-        const Eigen::Vector3d n = result.normals.xyz.row(i).transpose().cast<double>();
-        double misfit = 0.0;
-        for (std::size_t k = 0; k < images.size(); ++k) {
-          const double shading = std::max(0.0, n.dot(lights_here.directions()[k])) * lights_here.strength(k);
-          misfit += std::pow(images[k].data()[i] - result.albedo_map.data()[i] * shading, 2);
-        }
-        result.residual.data()[i] = float(std::sqrt(misfit / double(images.size())));
-      }
-  });
+  result.residual = residual_map(images, result.lights, params.lamps, result.normals, result.albedo_map, result.mask);
 }
 
 // How many pixels were lit in two, one or no photograph, and how many chose which of four to leave

@@ -104,9 +104,10 @@ struct Reconstruction {
   Eigen::Vector3d light;   ///< unit light direction used, camera frame (the first photograph's)
   /// Several photographs: the unit light of each, as used; one photograph: its light alone.
   std::vector<Eigen::Vector3d> lights;
-  /// Several photographs: H x W, how far the photographs are from the result, the RMS over them of
-  /// intensity - albedo_map max(0, n . S_k) (their intensity units): cast shadows, highlights and
-  /// what no Lambertian surface explains stand out. Empty for one photograph.
+  /// H x W, how far the photographs are from the result (residual_map): the RMS over them of
+  /// intensity - albedo_map max(0, n . S_k), for one photograph |intensity - albedo_map max(0, n . S)|
+  /// (their intensity units, 0 outside the mask). Where the result does not explain the image stands
+  /// out: cast shadows, highlights, paint the surface does not account for.
   ImageF residual;
   ReconstructStats stats;
 };
