@@ -429,3 +429,32 @@ def test_a_painted_photo_gives_its_de_lit_colour_as_the_material(addon, tmp_path
     lit = scene.mask & (scene.image > 0.2)
     hue = lambda rgb: rgb / rgb.sum(axis=-1, keepdims=True)
     assert np.abs(hue(albedo[lit]) - hue(paint[lit])).mean() < 0.02
+
+
+def test_the_residual_map_shows_a_stain_the_relief_does_not_explain(addon, tmp_path):
+    """Residual map on: the image '<name> residual' holds the core's residual over the albedo, 0..1; a
+    square of paint at half the albedo on a brick wall stands out. Off (the default): no such image."""
+    wall = synthetic.bricks((0.5, 0.3, 1.0), size=128, albedo_noise=0.0)
+    photograph, stain = wall.image.copy(), (slice(50, 70), slice(50, 70))
+    photograph[stain] *= 0.5
+    path = tmp_path / "stained.png"
+    shadecut.save_image(path, photograph)
+    settings = bpy.context.scene.shadecut
+    settings.image = bpy.data.images.load(str(path))
+    settings.scene = "relief"
+    settings.light_source, settings.light_direction = "DIRECTION", wall.light
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    assert "stained residual" not in bpy.data.images
+
+    settings.residual_map = True
+    job = reconstruct_job.prepare_job(bpy.context)
+    core = shadecut.reconstruct(job.image, job.light, job.mask, job.albedo, **job.options)
+    assert bpy.ops.shadecut.reconstruct() == {"FINISHED"}
+    residual = bpy.data.images["stained residual"]
+    assert residual.packed_file is not None and residual.colorspace_settings.name == "Non-Color"
+    pixels = pixels_of(residual).reshape(128, 128, 4)[::-1]  # Blender keeps row 0 at the bottom
+    np.testing.assert_allclose(pixels[..., 0], np.clip(core.residual / core.albedo_map, 0.0, 1.0), atol=1e-6)
+    np.testing.assert_array_equal(pixels[..., 3], 1.0)
+    elsewhere = np.ones(photograph.shape, dtype=bool)
+    elsewhere[stain] = False
+    assert np.median(pixels[..., 0][stain]) > 4.0 * np.median(pixels[..., 0][elsewhere])

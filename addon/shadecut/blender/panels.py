@@ -119,6 +119,7 @@ def draw_reconstruct_settings(layout, settings) -> None:
         sub.prop(settings, "max_vertices")
     column.prop(settings, "normal_map")
     column.prop(settings, "height_map")
+    column.prop(settings, "residual_map")
 
     layout.use_property_split = False
     row = layout.row(align=True)

@@ -330,6 +330,12 @@ class ShadeCutReconstructSettings(bpy.types.PropertyGroup):
         description="Also make a tangent-space normal map of the surface, '<result> normals', wired into the "
                     "result's material through a Normal Map node and packed into the .blend",
     )
+    residual_map: bpy.props.BoolProperty(
+        name="Residual map", default=False,
+        description="Also make a grey image, '<result> residual': how far the photograph is from the result, as "
+                    "a share of the albedo (black: the result renders it; white: off by the whole albedo). Shadows, "
+                    "highlights and paint the surface does not explain stand out: where to trust it less",
+    )
     height_map: bpy.props.BoolProperty(
         name="Height map", default=False,
         description="Also make a height image, '<result> height' (0 to 1), wired into the result's material "

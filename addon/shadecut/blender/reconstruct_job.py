@@ -20,7 +20,8 @@ from .image_input import (InputError, image_orientation, image_pixels, image_to_
 from .light_input import photograph_lights, side_light, side_origin, side_tilt, sun_light, unit_light
 from .preferences import addon_preferences
 from .mesh import MeshError
-from .result import TargetError, apply_maps, check_collection, check_target, limited_depth_scale, result_object
+from .result import (TargetError, apply_maps, check_collection, check_target, limited_depth_scale, residual_image,
+                     result_object)
 from .wording import short_number, with_article
 
 # Below this the image is black for the method: it needs shading to read slants from.
@@ -291,7 +292,7 @@ def _output_settings(settings, context=None, several: bool = False) -> dict:
     return dict(width=settings.width, depth_scale=settings.depth_scale, max_height=_height_limit(settings),
                 density=_density(settings), max_vertices=settings.max_vertices, displace=settings.output == "DISPLACE",
                 normal_map=settings.normal_map or (several and target is None), height_map=settings.height_map,
-                target=target)
+                residual_map=settings.residual_map, target=target)
 
 
 def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
@@ -311,7 +312,8 @@ def _finish_on_target(operator, context, job: Job, out: dict) -> set[str]:
     operator.report({"INFO"}, f"{maps.capitalize()} of image '{job.source_image.name}' applied to "
                               f"material '{material.name}' of '{obj.name}': {job.options['method']} in "
                               f"{time.perf_counter() - job.started:.1f} s, {_lights_used(job)}, "
-                              f"albedo {result.albedo:.3f}{job.shrunk}{report_cut_out(operator, job)}")
+                              f"albedo {result.albedo:.3f}{job.shrunk}{report_cut_out(operator, job)}"
+                              f"{_residual_map(job, out)}")
     report_orientation(operator, result)
     report_albedo(operator, result)
     return {"FINISHED"}
@@ -348,6 +350,16 @@ def _estimated_lights(job: Job) -> str:
               if stats.lights_turned_by_outline else "")
     return (f"lights estimated from them ({found}) at {short_number(job.options['light_slant'])} degrees from the "
             f"viewer (Light slant, which the depth's scale follows){uncertain}{turned}")
+
+
+def _residual_map(job: Job, out: dict) -> str:
+    """With Residual map on, the image '<name> residual' (result.residual_image) and what the finish
+    report says of it; else nothing."""
+    if not out.get("residual_map"):
+        return ""
+    result = job.result
+    image = residual_image(f"{job.name} residual", result.residual, result.albedo_map, result.mask)
+    return f", the residual map: image '{image.name}'"
 
 
 def report_albedo(operator, result) -> None:
@@ -429,7 +441,7 @@ def finish_job(operator, context, job: Job) -> set[str]:
     operator.report({"INFO"}, f"'{obj.name}': {source}{job.options['method']} in {time.perf_counter() - job.started:.1f} s, "
                               f"{_lights_used(job)}, albedo {result.albedo:.3f}, "
                               f"{len(obj.data.vertices):,} vertices (density {step}){job.shrunk}"
-                              f"{report_cut_out(operator, job)}")
+                              f"{report_cut_out(operator, job)}{_residual_map(job, out)}")
     obj[RESULT_PROPERTY] = True
     report_orientation(operator, result)
     report_albedo(operator, result)

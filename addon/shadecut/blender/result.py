@@ -53,6 +53,14 @@ def height_image(name: str, height: np.ndarray) -> bpy.types.Image:
     return _float_image(name, np.dstack([height, height, height, np.ones_like(height)]))
 
 
+def residual_image(name: str, residual: np.ndarray, albedo_map: np.ndarray, mask: np.ndarray) -> bpy.types.Image:
+    """How far the photograph is from the result (Reconstruction.residual, (H, W)) as a share of the
+    albedo there, clipped to 0..1, a grey float image, alpha = mask."""
+    share = np.divide(residual, albedo_map, out=np.zeros_like(residual), where=albedo_map > 0)
+    share = np.clip(share, 0.0, 1.0)
+    return _float_image(name, np.dstack([share, share, share, mask.astype(np.float32)]))
+
+
 def _texture_node(nodes, image: bpy.types.Image, location) -> bpy.types.Node:
     texture = nodes.new("ShaderNodeTexImage")
     texture.image = image
