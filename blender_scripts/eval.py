@@ -29,7 +29,8 @@ runs only that part; with --dataset DIR the synthetic dataset (and the paper's e
 at slant 40 degrees, beside the artist's baselines: flat, the image as height (its strength chosen on
 the training half, and the best strength knowing the truth) and ShadeCut (scene "relief", true and
 estimated light). Writes materials.json, materials.csv and materials.md to --out
-(shadecut.evaluation.materials). Alone (or with --diligent only), no synthetic dataset is evaluated,
+(shadecut.evaluation.materials). With --cast-shadows the renders are black where the relief hides the
+light (both halves). Alone (or with --diligent only), no synthetic dataset is evaluated,
 and without --diligent results.json, results.csv and report.md are not written.
 
 Exit code: 0 when every method was evaluated on every sample (and material render); 1 when a method failed on a sample
@@ -100,6 +101,8 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
     parser.add_argument("--materials", type=Path, metavar="DIR",
                         help="scanned materials (../shared/data/materials): one photograph of each of the test "
                              "half beside flat and the image as height (alone: only these)")
+    parser.add_argument("--cast-shadows", action="store_true",
+                        help="with --materials: render the materials with cast shadows")
     parser.add_argument("--fit-shading", action=argparse.BooleanOptionalAction,
                         help="graphcut's fit_shading (the depth fitted to the image) on or off "
                              f"(default: {'on' if shadecut.ReconstructOptions().fit_shading else 'off'})")
@@ -290,6 +293,8 @@ def main(argv: list[str]) -> int:
             given = generated_only + (["--estimate-light"] if args.estimate_light else [])
             raise evaluation.EvaluationError(f"{', '.join(given)} apply to a synthetic dataset, which --diligent "
                                              "or --materials alone does not evaluate (add --dataset DIR)")
+        if args.cast_shadows and args.materials is None:
+            raise evaluation.EvaluationError("--cast-shadows renders the scanned materials: give --materials DIR")
         objects = evaluation.find_objects(args.diligent) if args.diligent is not None else []
         check_materials(args.materials)
         evaluation.prepare_output(out)
@@ -343,7 +348,8 @@ def evaluate_and_report(args: argparse.Namespace, methods: tuple, dataset: Path 
     if args.materials is not None:
         log(f"one photograph of each material of the test half ({', '.join(materials.TEST)}) beside the artist's "
             "baselines")
-        material_paths, material_summary = material_baselines.evaluate_test_half(args.materials, out, options, log)
+        material_paths, material_summary = material_baselines.evaluate_test_half(args.materials, out, options, log,
+                                                                                 args.cast_shadows)
         log("\nMaterials, test half:\n" + material_baselines.summary_table(material_summary))
         log(f"written to {out}: {', '.join(material_paths)}")
         material_failures = sum(part["failed"] for part in material_summary.values())

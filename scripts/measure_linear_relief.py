@@ -2,10 +2,11 @@
 (shadecut.evaluation.linear_relief) on the scanned materials' test half, rendered Lambertian under the
 materials evaluation's four lights, its smoothness chosen on the training half, beside flat.
 
-    PYTHONPATH=addon /usr/bin/python3 scripts/measure_linear_relief.py [MATERIALS_FOLDER]
+    PYTHONPATH=addon /usr/bin/python3 scripts/measure_linear_relief.py [MATERIALS_FOLDER] [--cast-shadows]
 
 MATERIALS_FOLDER defaults to ../shared/data/materials. It prints docs/results.md's table "A linear
-reading of the relief" and the training curves.
+reading of the relief" and the training curves; with --cast-shadows, of renders black where the relief
+hides the light (both halves).
 """
 
 from __future__ import annotations
@@ -25,7 +26,9 @@ DEFAULT_FOLDER = Path(__file__).resolve().parents[2] / "shared" / "data" / "mate
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folder", nargs="?", type=Path, default=DEFAULT_FOLDER)
-    result = evaluate_linear_relief(parser.parse_args().folder)
+    parser.add_argument("--cast-shadows", action="store_true", help="render with cast shadows")
+    args = parser.parse_args()
+    result = evaluate_linear_relief(args.folder, args.cast_shadows)
     print("Training half, mean error by smoothness: " + "; ".join(
         f"{name}: " + ", ".join(f"{w:g}: {e:.2f}°" for w, e in zip(SMOOTHNESSES, part["training_curve"]))
         for name, part in result["inputs"].items()))

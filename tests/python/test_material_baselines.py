@@ -146,6 +146,12 @@ def test_eval_py_materials_writes_its_files_and_refuses_a_folder_without_them(tm
     assert len(rows) == 1 + len(materials.TEST) * baselines.LIGHT_COUNT * len(baselines.METHODS)
     assert "| flat | 0.32 |" in (out / "materials.md").read_text()  # the 8-bit flat normal map's own tilt
 
+    shadowed = run("--materials", folder, "--cast-shadows", "--out", tmp_path / "shadowed")
+    assert shadowed.returncode == 0, shadowed.stdout[-2000:] + shadowed.stderr[-2000:]
+    assert "Lambertian renders with cast shadows of" in (tmp_path / "shadowed" / "materials.md").read_text()
+    alone = run("--cast-shadows", "--out", tmp_path / "alone")
+    assert alone.returncode == 2 and "give --materials DIR" in alone.stderr, alone.stderr
+
     shutil.rmtree(folder / "Rock029")
     refused = run("--materials", folder, "--out", tmp_path / "refused")
     assert refused.returncode == 2 and "Rock029 has no color.png" in refused.stderr, refused.stderr

@@ -65,6 +65,25 @@ def test_lambertian_photographs_are_albedo_times_the_clipped_cosine():
 
 
 @needs_materials
+def test_a_relief_lit_from_one_side_photographs_as_its_inversion_lit_from_the_other():
+    """Issue 46's light bound needs a prior on which way a relief stands: without cast shadows the
+    photograph of a relief under L is, pixel for pixel, that of the relief turned inside out under
+    (-L_x, -L_y, L_z), the light from the opposite side. Under the evaluation's four lights the two
+    answers lie 2 x 40 = 80 degrees apart, so whatever one photograph's estimator answers, it is at
+    least 40 degrees off for one of the two surfaces."""
+    material = materials.load_material(MATERIALS / "Bricks061")
+    inverted = materials.Material(material.name, material.albedo, material.normals * np.float32([-1, -1, 1]),
+                                  1.0 - material.height)
+    lights = materials.lights_around(4, 40.0)
+    opposite = lights * [-1.0, -1.0, 1.0]
+    np.testing.assert_allclose(opposite, lights[[2, 3, 0, 1]], atol=1e-12)  # the same four lights
+    for photograph, of_inverse in zip(materials.lambertian_photographs(material, lights),
+                                      materials.lambertian_photographs(inverted, opposite)):
+        np.testing.assert_array_equal(photograph, of_inverse)
+    np.testing.assert_allclose(np.degrees(np.arccos(np.sum(lights * opposite, axis=1))), 80.0)
+
+
+@needs_materials
 def test_cast_shadows_darken_the_rock_where_the_integrated_surface_hides_the_light():
     material = materials.load_material(MATERIALS / "Rock029")
     light = materials.lights_around(1, 60.0)[0]

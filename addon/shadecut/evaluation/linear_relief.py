@@ -36,24 +36,26 @@ def linear_errors(photograph: np.ndarray, shading: np.ndarray, light: np.ndarray
             for name, (image, given, albedo) in readings.items()}
 
 
-def half_errors(folder: os.PathLike | str, names: Sequence[str], lights: np.ndarray) -> dict:
-    """Per input, a (renders, len(SMOOTHNESSES)) array of errors, and "flat": (renders,)."""
+def half_errors(folder: os.PathLike | str, names: Sequence[str], lights: np.ndarray, cast_shadows: bool = False) -> dict:
+    """Per input, a (renders, len(SMOOTHNESSES)) array of errors, and "flat": (renders,); the renders
+    as ``materials.renders`` makes them."""
     per_input: dict = {name: [] for name in INPUTS}
     flat = []
     for material in load_half(folder, names):
-        for light, photograph in renders(material, lights):
+        for light, photograph in renders(material, lights, cast_shadows):
             for name, errors in linear_errors(photograph, true_shading(material, photograph), light, material.normals).items():
                 per_input[name].append(errors)
             flat.append(angular_error(flat_normals(photograph.shape), material.normals))
     return {**{name: np.array(rows) for name, rows in per_input.items()}, "flat": np.array(flat)}
 
 
-def evaluate_linear_relief(folder: os.PathLike | str) -> dict:
+def evaluate_linear_relief(folder: os.PathLike | str, cast_shadows: bool = False) -> dict:
     """The training curves, the smoothness each input's curve chooses, and the test half's errors at it
-    (mean, per render, renders below flat), under the materials evaluation's four lights."""
+    (mean, per render, renders below flat), under the materials evaluation's four lights; both halves
+    rendered with ``cast_shadows`` or without."""
     lights = default_lights()
-    training = half_errors(folder, TRAINING, lights)
-    test = half_errors(folder, TEST, lights)
+    training = half_errors(folder, TRAINING, lights, cast_shadows)
+    test = half_errors(folder, TEST, lights, cast_shadows)
     result = {"flat": float(test["flat"].mean()), "renders": len(test["flat"]), "inputs": {}}
     for name in INPUTS:
         curve = training[name].mean(axis=0)

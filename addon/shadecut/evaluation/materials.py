@@ -1,8 +1,8 @@
 """One photograph of a scanned material (issue 46): ShadeCut beside what an artist does without it.
 
 Each material of a half (``shadecut.materials``) is rendered Lambertian under each light
-(``materials.lambertian_photographs``: albedo x max(0, n . s), no shadow, no bounce), and every render
-is read by:
+(``materials.lambertian_photographs``: albedo x max(0, n . s), no bounce; no shadow, or with
+``cast_shadows`` black where the relief hides the light), and every render is read by:
 
 - **flat**: the normal (0, 0, 1) everywhere, what leaving the surface flat gives;
 - **image as height**, what a Bump node makes of the photograph plugged in as its height: the
@@ -85,9 +85,11 @@ def height_errors(photograph: np.ndarray, truth: np.ndarray, strengths: Sequence
     return np.array([angular_error(image_as_height(photograph, s), truth) for s in strengths])
 
 
-def renders(material: Material, lights: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """(light, photograph) pairs: the material rendered Lambertian under each of ``lights`` (K, 3)."""
-    return list(zip(np.asarray(lights, dtype=np.float64), lambertian_photographs(material, lights)))
+def renders(material: Material, lights: np.ndarray, cast_shadows: bool = False) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(light, photograph) pairs: the material rendered Lambertian under each of ``lights`` (K, 3),
+    with ``cast_shadows`` black where the relief hides the light (``materials.lambertian_photographs``)."""
+    photographs = lambertian_photographs(material, lights, cast_shadows=cast_shadows)
+    return list(zip(np.asarray(lights, dtype=np.float64), photographs))
 
 
 def load_half(folder: os.PathLike | str, names: Sequence[str]) -> list[Material]:
@@ -100,10 +102,10 @@ def load_half(folder: os.PathLike | str, names: Sequence[str]) -> list[Material]
 
 
 def training_errors(folder: os.PathLike | str, lights: Optional[np.ndarray] = None,
-                    names: Sequence[str] = TRAINING) -> np.ndarray:
+                    names: Sequence[str] = TRAINING, cast_shadows: bool = False) -> np.ndarray:
     """Per strength of :data:`STRENGTHS`, the mean image-as-height error (degrees) over the renders of
     the training materials ``names`` of ``folder``, each under each light (default
-    :func:`default_lights`). A material of the test half among ``names`` is refused (ValueError): a
+    :func:`default_lights`; ``cast_shadows`` as :func:`renders`). A material of the test half among ``names`` is refused (ValueError): a
     strength chosen from it would have seen the test."""
     leaked = sorted(set(names) & set(TEST))
     if leaked:
@@ -111,7 +113,7 @@ def training_errors(folder: os.PathLike | str, lights: Optional[np.ndarray] = No
                          f"training materials only ({', '.join(TRAINING)})")
     lights = default_lights() if lights is None else lights
     errors = [height_errors(photograph, material.normals)
-              for material in load_half(folder, names) for _, photograph in renders(material, lights)]
+              for material in load_half(folder, names) for _, photograph in renders(material, lights, cast_shadows)]
     return np.mean(errors, axis=0)
 
 
@@ -166,14 +168,16 @@ def render_rows(material: Material, light: np.ndarray, photograph: np.ndarray, s
 
 
 def evaluate_materials(folder: os.PathLike | str, names: Sequence[str], lights: np.ndarray, strength: float,
-                       options: Optional[dict] = None, log: Callable[[str], None] = lambda line: None) -> list[dict]:
+                       options: Optional[dict] = None, log: Callable[[str], None] = lambda line: None,
+                       cast_shadows: bool = False) -> list[dict]:
     """Every row (:func:`render_rows`) of every material ``names`` of ``folder`` under each of
-    ``lights`` (K, 3), image as height at the training-chosen ``strength``."""
+    ``lights`` (K, 3) (``cast_shadows`` as :func:`renders`), image as height at the training-chosen
+    ``strength``."""
     lights = np.asarray(lights, dtype=np.float64)
     loaded = load_half(folder, names)
     rows = []
     for material in loaded:
-        for light, photograph in renders(material, lights):
+        for light, photograph in renders(material, lights, cast_shadows):
             rows += render_rows(material, light, photograph, strength, options)
         means = summarize_materials([r for r in rows if r["material"] == material.name])
         log(f"materials: {material.name}: " + "; ".join(f"{m} {s['mean_deg']:.2f}°" for m, s in means.items()
@@ -250,7 +254,8 @@ def write_materials(out_dir: os.PathLike | str, rows: Sequence[dict], settings: 
     write_text(paths["materials.csv"], table.getvalue())
     renders_count = len({(r["material"], r["light_azimuth_deg"]) for r in rows})
     lines = ["# Materials: the artist's baselines", "", provenance(), "",
-             f"{renders_count} Lambertian renders of {', '.join(settings['materials'])}; image-as-height "
+             f"{renders_count} Lambertian renders{' with cast shadows' if settings.get('cast_shadows') else ''} of "
+             f"{', '.join(settings['materials'])}; image-as-height "
              f"strength chosen on the training half: {settings['strength']:g}. Mean angular error in degrees "
              "over every pixel.", "", _training_line(settings), "", summary_table(summary), "", "Per material, the mean over its lights:", "",
              material_table(rows), ""]
@@ -259,15 +264,16 @@ def write_materials(out_dir: os.PathLike | str, rows: Sequence[dict], settings: 
 
 
 def evaluate_test_half(folder: os.PathLike | str, out_dir: os.PathLike | str, options: Optional[dict] = None,
-                       log: Callable[[str], None] = lambda line: None) -> tuple[dict, dict]:
+                       log: Callable[[str], None] = lambda line: None, cast_shadows: bool = False) -> tuple[dict, dict]:
     """eval.py's --materials: the strength chosen on the training half of ``folder``, every row of the
-    test half under :func:`default_lights`, written by :func:`write_materials`; (paths, summary)."""
+    test half under :func:`default_lights` (``cast_shadows`` as :func:`renders`, both halves), written
+    by :func:`write_materials`; (paths, summary)."""
     lights = default_lights()
-    curve = training_errors(folder, lights)
+    curve = training_errors(folder, lights, cast_shadows=cast_shadows)
     strength = training_strength(curve)
     log(f"materials: image-as-height strength {strength:g}, chosen on the training half ({', '.join(TRAINING)})")
-    rows = evaluate_materials(folder, TEST, lights, strength, options, log)
+    rows = evaluate_materials(folder, TEST, lights, strength, options, log, cast_shadows)
     settings = {"folder": str(Path(folder).resolve()), "materials": list(TEST), "training": list(TRAINING),
-                "lights": lights.tolist(), "slant_deg": SLANT_DEGREES, "strength": strength,
+                "lights": lights.tolist(), "slant_deg": SLANT_DEGREES, "cast_shadows": cast_shadows, "strength": strength,
                 "strengths": STRENGTHS.tolist(), "training_mean_deg": curve.tolist(), "options": dict(options or {})}
     return write_materials(out_dir, rows, settings), summarize_materials(rows)
