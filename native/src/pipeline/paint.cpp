@@ -10,6 +10,7 @@
 
 #include "pipeline/option_checks.hpp"
 #include "pipeline/reconstruct_shading.hpp"
+#include "support/parallel.hpp"
 #include "support/stopwatch.hpp"
 
 #include <map>
@@ -60,6 +61,8 @@ Reconstruction read_paint_and_shape(const ImageF& image, const ColourImage* colo
 
 Reconstruction reconstruct_painted(const ImageF& image, const ColourImage* colour, const std::optional<Eigen::Vector3d>& light,
                                    const Mask* mask_in, std::optional<double> albedo, const ReconstructOptions& options) {
+  // Every stage of the call, the paint and the residual included, on the threads the options ask for.
+  const ThreadCountScope threads(options.threads);
   // Before the estimates, whose own complaint about a bad albedo ("the image is dark everywhere")
   // would name the wrong problem.
   if (albedo) check_albedo(*albedo);

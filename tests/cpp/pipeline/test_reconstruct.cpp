@@ -79,6 +79,7 @@ TEST(Reconstruct, OneThreadAndTwoGiveTheSameBits) {
     const Reconstruction two = reconstruct(scene.image, light, &scene.mask, 1.0, options);
     EXPECT_TRUE((one.normals.xyz.array() == two.normals.xyz.array()).all()) << to_string(method);
     EXPECT_TRUE((one.depth == two.depth).all()) << to_string(method);
+    EXPECT_TRUE((one.residual == two.residual).all()) << to_string(method);
   }
 }
 
