@@ -14,7 +14,6 @@
 #include "pipeline/option_checks.hpp"
 #include "pipeline/orientation.hpp"
 #include "pipeline/surface_rules.hpp"
-#include "support/parallel.hpp"
 #include "support/stopwatch.hpp"
 
 #include <iomanip>
@@ -132,7 +131,6 @@ Reconstruction reconstruct_shading(const ImageF& input, const std::optional<Eige
   result.mask = mask;
   const LightFrame frame = choose_lighting(image, mask, brightest, light, albedo, options, progress, result);
   judge_albedo(image, mask, albedo.has_value(), result.albedo, result.stats);
-  const ThreadCountScope threads(options.threads);
   const Mask unreliable =
       unreliable_pixels(image, mask, result.albedo, shadow_threshold_used(options), highlight_threshold_used(options));
   const std::optional<Surface> before_fit = make_surface(image, unreliable, frame, options, progress, result);
