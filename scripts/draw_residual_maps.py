@@ -20,17 +20,10 @@ import numpy as np
 import shadecut
 from shadecut import materials
 from shadecut.evaluation.materials import default_lights, load_half
-from shadecut.imaging import luminance
+from shadecut.imaging import luminance, residual_share
 
 DEFAULT_FOLDER = Path(__file__).resolve().parents[2] / "shared" / "data" / "materials"
 SHOWN = ("Bricks061", "PaintedPlaster009")
-
-
-def residual_share(result) -> np.ndarray:
-    """The residual over the albedo, 0..1: what the add-on's Residual map image holds."""
-    share = np.divide(result.residual, result.albedo_map, out=np.zeros_like(result.residual),
-                      where=result.albedo_map > 0)
-    return np.clip(share, 0.0, 1.0)
 
 
 def main() -> None:
@@ -53,8 +46,8 @@ def main() -> None:
         # The photograph and its paint shown with a display gamma of 2.2, the residual as stored.
         panels = ((np.clip(photograph, 0.0, 1.0) ** (1 / 2.2), f"{material.name}: photograph"),
                   (luminance(material.albedo) ** (1 / 2.2), "its paint (true albedo)"),
-                  (residual_share(default), "residual map, the default (graphcut)"),
-                  (residual_share(linear), "residual map, pentland"))
+                  (residual_share(default.residual, default.albedo_map), "residual map, the default (graphcut)"),
+                  (residual_share(linear.residual, linear.albedo_map), "residual map, pentland"))
         for column, (picture, title) in enumerate(panels):
             axes[row, column].imshow(picture, cmap="gray", vmin=0.0, vmax=1.0, interpolation="nearest")
             axes[row, column].set_title(title, fontsize=9)

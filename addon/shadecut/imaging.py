@@ -105,6 +105,14 @@ def normal_colors(normals: np.ndarray, mask: np.ndarray | None = None) -> np.nda
     return colors.astype(np.float32)
 
 
+def residual_share(residual: np.ndarray, albedo_map: np.ndarray) -> np.ndarray:
+    """``Reconstruction.residual`` (H, W) over the albedo there, clipped to 0..1 (0 where the albedo
+    is 0): what the add-on's Residual map image shows."""
+    residual = np.asarray(residual, dtype=np.float32)
+    share = np.divide(residual, albedo_map, out=np.zeros_like(residual), where=np.asarray(albedo_map) > 0)
+    return np.clip(share, 0.0, 1.0)
+
+
 def unit_height(depth: np.ndarray, mask: np.ndarray) -> tuple[np.ndarray, float, float]:
     """A depth map (H, W) as a height image in 0..1 with the rule to undo it.
 

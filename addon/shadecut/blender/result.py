@@ -8,7 +8,7 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
-from ..imaging import normal_colors, unit_height
+from ..imaging import normal_colors, residual_share, unit_height
 from .mesh import MeshError, depth_mesh
 from .wording import with_article
 
@@ -55,9 +55,8 @@ def height_image(name: str, height: np.ndarray) -> bpy.types.Image:
 
 def residual_image(name: str, residual: np.ndarray, albedo_map: np.ndarray, mask: np.ndarray) -> bpy.types.Image:
     """How far the photograph is from the result (Reconstruction.residual, (H, W)) as a share of the
-    albedo there, clipped to 0..1, a grey float image, alpha = mask."""
-    share = np.divide(residual, albedo_map, out=np.zeros_like(residual), where=albedo_map > 0)
-    share = np.clip(share, 0.0, 1.0)
+    albedo there (imaging.residual_share), a grey float image, alpha = mask."""
+    share = residual_share(residual, albedo_map)
     return _float_image(name, np.dstack([share, share, share, mask.astype(np.float32)]))
 
 
